@@ -1,0 +1,42 @@
+"""Seed 000 (Kim & Chung): crank-rocker planting mechanisms A, B and C of rice transplanters.
+
+Table 1 gives each mechanism in the Denavit-Hartenberg convention (lengths in cm, converted
+to mm here): frame a1, crank a2, coupler a3, rocker a4, the fork apex (X3P, Y3P) in the
+rocker-pin frame and the frame rotation phi. The crank turns at 8 pi rad/s (240 rpm) and the
+machine advances at 60 cm/s; the planting depth is 4 cm.
+
+The paper does not say which way each crank turns nor which assembly it uses; its own
+Table 2 settles both: assembly branch +1 for all three, A counter-clockwise ("backward
+relative to the wheels") and B and C clockwise (B "in the same direction as the wheels").
+"""
+
+import math
+
+from transplanter.families import ArmStudy, Family
+from transplanter.linkage.dh import DHFourBar
+from transplanter.linkage.planting import PlantingArm
+
+CRANK_SPEED = 8 * math.pi  # rad/s, 240 rpm
+FORWARD_SPEED = 600.0  # mm/s
+PLANTING_DEPTH = 40.0  # mm
+
+# name: (a1, a2, a3, a4, X3P, Y3P [mm], phi [deg], sense of crank rotation)
+TABLE_1 = {
+    "mechanism_A": (75.0, 35.0, 75.0, 80.0, -237.8, -101.7, 90.0, +1),
+    "mechanism_B": (125.0, 40.0, 100.0, 85.0, -273.8, 63.3, 322.0, -1),
+    "mechanism_C": (120.0, 38.0, 103.0, 75.0, -345.1, -100.3, 282.0, -1),
+}
+
+
+def arm(name: str) -> PlantingArm:
+    a1, a2, a3, a4, x3, y3, phi, sense = TABLE_1[name]
+    linkage = DHFourBar(a1=a1, a2=a2, a3=a3, a4=a4, phi=math.radians(phi), branch=+1)
+    return PlantingArm.from_dh(linkage, x3, y3, sense * CRANK_SPEED, FORWARD_SPEED, name=name)
+
+
+def family() -> Family:
+    return Family(
+        name="fourbar_seed000",
+        description="Seed 000 crank-rocker planting mechanisms A, B, C (Table 1) with Table 2 metrics",
+        parts=tuple(ArmStudy(arm(name), PLANTING_DEPTH) for name in TABLE_1),
+    )

@@ -1,0 +1,33 @@
+"""Seed 001 (Kumar & Thomas): four-bar of a power-tiller 8-row rice transplanter.
+
+Table 1: crank 6.0 cm, coupler 20.0 cm, follower 21.3 cm, fixed link 33.0 cm at 37.4 deg to
+the horizontal, coupler extension 25.3 cm; crank at 125 rpm, forward speed 1.5 km/h.
+
+Reading: the fixed link runs from the crank pivot to the follower pivot at 37.4 deg and the
+assembly is branch -1; with it the paper's coupler angle range (-18.1 to +19.4 deg) and
+follower angle range (54.1 to 89.4 deg, direction rocker pin -> follower pivot) reproduce.
+The finger is taken on the coupler line 25.3 cm beyond the rocker pin (20 + 25.3 cm from the
+crank pin). The paper's velocity and acceleration figures (280.32 cm/s, 3866.5 cm/s^2) do
+not follow from these dimensions under any reading of the finger position (see README).
+The planting depth is not given; 40 mm is assumed.
+"""
+
+import math
+
+from transplanter.families import ArmStudy, Family
+from transplanter.linkage.fourbar import FourBar
+from transplanter.linkage.planting import PlantingArm
+
+LINKAGE = FourBar(ground=330.0, crank=60.0, coupler=200.0, rocker=213.0, ground_angle=math.radians(37.4), branch=-1)
+CRANK_SPEED = 2 * math.pi * 125 / 60  # rad/s
+FORWARD_SPEED = 1500.0 / 3.6  # mm/s (1.5 km/h)
+FINGER = (200.0 + 253.0, 0.0)  # mm in the coupler frame
+
+
+def family() -> Family:
+    arm = PlantingArm(LINKAGE, FINGER, CRANK_SPEED, FORWARD_SPEED, name="eight_row_arm")
+    return Family(
+        name="fourbar_seed001",
+        description="Seed 001 four-bar of an 8-row power-tiller transplanter (Table 1)",
+        parts=(ArmStudy(arm, planting_depth=40.0),),
+    )

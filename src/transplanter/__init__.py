@@ -1,0 +1,3 @@
+"""transplanter: from seedling-transplanting mechanism designs to parts a shop can cut."""
+
+__version__ = "0.1.0"

@@ -1,0 +1,110 @@
+"""Command line: ``transplanter build`` and ``transplanter analyse``.
+
+``transplanter build`` with no arguments builds every part script in ``./parts`` into
+``./exports/<family>/``; ``transplanter build parts/x.py -o DIR --jobs N`` builds the named
+scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the arms in a
+script (the paper's Table 2 layout) and, with ``--plots DIR``, writes their plots.
+Exit status: 0 on success, 1 if any part failed, 2 on bad input (message on stderr).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+from transplanter.errors import TransplanterError
+
+__all__ = ["main"]
+
+
+def _build_one(script: str, out: str) -> tuple[str, bool, list[str]]:
+    from transplanter.families import build_family, load_family
+
+    fam = load_family(script)
+    manifest = build_family(fam, out)
+    errors = [f"{fam.name}/{k}: {v['error']}" for k, v in manifest["parts"].items() if "error" in v]
+    return fam.name, manifest["ok"], errors
+
+
+def _cmd_build(args: argparse.Namespace) -> int:
+    from transplanter.families import discover
+
+    scripts = [Path(s) for s in args.scripts] or discover(args.parts)
+    if not scripts:
+        print(f"no part scripts found in {args.parts}", file=sys.stderr)
+        return 2
+    ok = True
+    total = len(scripts)
+    if args.jobs > 1 and total > 1:
+        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
+            futures = [pool.submit(_build_one, str(s), args.output) for s in scripts]
+            results = []
+            for i, f in enumerate(futures, 1):
+                results.append(f.result())
+                print(f"[{i}/{total}] {results[-1][0]}", file=sys.stderr)
+    else:
+        results = []
+        for i, s in enumerate(scripts, 1):
+            print(f"[{i}/{total}] {s}", file=sys.stderr)
+            results.append(_build_one(str(s), args.output))
+    for name, fam_ok, errors in results:
+        status = "ok" if fam_ok else "FAILED"
+        print(f"{name}: {status} -> {Path(args.output) / name}")
+        for e in errors:
+            print(f"  error: {e}", file=sys.stderr)
+        ok = ok and fam_ok
+    return 0 if ok else 1
+
+
+def _cmd_analyse(args: argparse.Namespace) -> int:
+    from transplanter import plots
+    from transplanter.export import atomic_write
+    from transplanter.families import ArmStudy, load_family
+
+    fam = load_family(args.script)
+    arms = [p for p in fam.parts if isinstance(p, ArmStudy)]
+    if not arms:
+        print(f"{args.script}: family {fam.name!r} has no planting arms to analyse", file=sys.stderr)
+        return 2
+    for study in arms:
+        m = study.arm.metrics(planting_depth=study.planting_depth)
+        print(f"\n{fam.name} / {study.name}  ({study.arm.linkage.grashof_class().value})")
+        for label, value, unit in m.table():
+            print(f"  {label:34s} {value:12.4f} {unit}")
+        if args.plots:
+            out = Path(args.plots)
+            for fmt in ("png", "svg"):
+                atomic_write(out / f"{study.name}.path.{fmt}", plots.figure_bytes(plots.coupler_curve_figure(study.arm, m), fmt))
+                atomic_write(
+                    out / f"{study.name}.kinematics.{fmt}", plots.figure_bytes(plots.kinematics_figure(study.arm, m), fmt)
+                )
+    return 0
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="transplanter", description=__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    b = sub.add_parser("build", help="build part families into exports/")
+    b.add_argument("scripts", nargs="*", help="part scripts (default: every script in --parts)")
+    b.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")
+    b.add_argument("--parts", default="parts", help="folder of part scripts (default: parts)")
+    b.add_argument("--jobs", type=int, default=1, help="build families in N processes")
+    a = sub.add_parser("analyse", aliases=["analyze"], help="print the planting metrics of a part script's arms")
+    a.add_argument("script", help="part script")
+    a.add_argument("--plots", metavar="DIR", help="also write path and kinematics plots to DIR")
+    args = parser.parse_args(argv)
+    try:
+        if args.command == "build":
+            if args.jobs < 1:
+                parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
+            return _cmd_build(args)
+        return _cmd_analyse(args)
+    except TransplanterError as exc:
+        print(f"transplanter: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

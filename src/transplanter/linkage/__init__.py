@@ -1,0 +1,1 @@
+"""Linkage analysis and synthesis: four-bar kinematics, conventions, planting metrics, dynamics."""
