@@ -63,11 +63,13 @@ def test_analytic_rates_match_numerical_differentiation(fb, t0, u, v):
     m = fb.solve(t, 1.0, 0.0)
     for link in (Link.COUPLER, Link.ROCKER):
         # differentiate the direction vector, not the wrapped angle: d e(th) = w * i e(th)
-        w_num = _central_diff(lambda x, k=link: np.exp(1j * fb.solve(x).theta[k]), t) / (1j * np.exp(1j * m.theta[link]))
+        w_num = _central_diff(lambda x, k=link: np.exp(1j * fb.solve(x).theta[k]), t) / (
+            1j * np.exp(1j * m.theta[link])
+        )
         w_num = w_num.real
         scale = max(1.0, abs(m.omega[link][0]))
         assert abs(w_num[0] - m.omega[link][0]) < DERIVATIVE_REL * scale * 10
-        a_num = _central_diff(lambda x: fb.solve(x, 1.0, 0.0).omega[link], t)
+        a_num = _central_diff(lambda x, k=link: fb.solve(x, 1.0, 0.0).omega[k], t)
         scale = max(1.0, abs(m.alpha[link][0]))
         assert abs(a_num[0] - m.alpha[link][0]) < DERIVATIVE_REL * scale * 10
     # a point on the coupler: velocity = d position, acceleration = d velocity
@@ -89,9 +91,7 @@ def test_rates_scale_with_crank_speed_and_acceleration(fb, w, al):
     m = fb.solve(t, w, al)
     for link in (Link.COUPLER, Link.ROCKER):
         np.testing.assert_allclose(m.omega[link], w * unit.omega[link], rtol=1e-9, atol=1e-9)
-        np.testing.assert_allclose(
-            m.alpha[link], w**2 * unit.alpha[link] + al * unit.omega[link], rtol=1e-9, atol=1e-7
-        )
+        np.testing.assert_allclose(m.alpha[link], w**2 * unit.alpha[link] + al * unit.omega[link], rtol=1e-9, atol=1e-7)
 
 
 def test_branch_is_continuous_over_a_revolution():

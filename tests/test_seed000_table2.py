@@ -29,12 +29,24 @@ TOL_A = 3.5 * MS2
 
 # Table 2: (crank angle deg, magnitude, direction deg) for the extremes
 EXTREMES = {
-    "A": {"max_speed": (190, 4.43, 93.58), "min_speed": (150, 0.298, 66.36),
-          "max_acceleration": (170, 189.91, 100.07), "min_acceleration": (85, 44.85, 22.09)},
-    "B": {"max_speed": (195, 3.24, 75.44), "min_speed": (300, 0.914, 160.13),
-          "max_acceleration": (150, 106.67, -82.24), "min_acceleration": (190, 8.85, -119.4)},
-    "C": {"max_speed": (190, 3.68, 63.73), "min_speed": (135, 0.858, -30.56),
-          "max_acceleration": (140, 133.43, -92.17), "min_acceleration": (190, 21.03, 116.56)},
+    "A": {
+        "max_speed": (190, 4.43, 93.58),
+        "min_speed": (150, 0.298, 66.36),
+        "max_acceleration": (170, 189.91, 100.07),
+        "min_acceleration": (85, 44.85, 22.09),
+    },
+    "B": {
+        "max_speed": (195, 3.24, 75.44),
+        "min_speed": (300, 0.914, 160.13),
+        "max_acceleration": (150, 106.67, -82.24),
+        "min_acceleration": (190, 8.85, -119.4),
+    },
+    "C": {
+        "max_speed": (190, 3.68, 63.73),
+        "min_speed": (135, 0.858, -30.56),
+        "max_acceleration": (140, 133.43, -92.17),
+        "min_acceleration": (190, 21.03, 116.56),
+    },
 }
 # height, width (cm), crank angle in soil (deg), path in soil (cm), entry-exit distance (cm)
 LOOP = {"A": (25.0, 7.4, 75.0, 10.6, 5.0), "B": (22.3, 9.8, 119.0, 9.2, 2.0), "C": (25.0, 12.7, 112.5, 9.8, 2.7)}
@@ -74,22 +86,39 @@ def test_table2(mech, table):
     h, w, soil_deg, path, dist = LOOP[mech]
     _check(results, (mech, "height"), _close(m.loop_height, h * CM, TOL_LEN_REL, 0), m.loop_height)
     _check(results, (mech, "width"), _close(m.loop_width, w * CM, TOL_LEN_REL, 0), m.loop_width)
-    _check(results, (mech, "crank angle in soil"), abs(math.degrees(m.crank_angle_in_soil) - soil_deg) < 5.0,
-           math.degrees(m.crank_angle_in_soil))
-    _check(results, (mech, "path in soil"), _close(m.path_length_in_soil, path * CM, TOL_LEN_REL, 0),
-           m.path_length_in_soil)
+    _check(
+        results,
+        (mech, "crank angle in soil"),
+        abs(math.degrees(m.crank_angle_in_soil) - soil_deg) < 5.0,
+        math.degrees(m.crank_angle_in_soil),
+    )
+    _check(
+        results, (mech, "path in soil"), _close(m.path_length_in_soil, path * CM, TOL_LEN_REL, 0), m.path_length_in_soil
+    )
     _check(results, (mech, "entry-exit distance"), abs(m.entry_exit_distance - dist * CM) < 3.0, m.entry_exit_distance)
     for name, (ang, speed, acc) in EVENTS[mech].items():
         st = getattr(m, name)
-        _check(results, (mech, f"{name} angle"), _angle_diff(math.degrees(st.crank_angle), ang) <= TOL_ANGLE_DEG,
-               math.degrees(st.crank_angle))
+        _check(
+            results,
+            (mech, f"{name} angle"),
+            _angle_diff(math.degrees(st.crank_angle), ang) <= TOL_ANGLE_DEG,
+            math.degrees(st.crank_angle),
+        )
         _check(results, (mech, f"{name} speed"), _close(st.speed, speed * MS, TOL_REL, TOL_V), st.speed)
-        _check(results, (mech, f"{name} acceleration"),
-               _close(st.acceleration_magnitude, acc * MS2, TOL_REL, TOL_A), st.acceleration_magnitude)
+        _check(
+            results,
+            (mech, f"{name} acceleration"),
+            _close(st.acceleration_magnitude, acc * MS2, TOL_REL, TOL_A),
+            st.acceleration_magnitude,
+        )
     for name, (ang, mag, _direction) in EXTREMES[mech].items():
         ex = getattr(m, name)
-        _check(results, (mech, f"{name} angle"), _angle_diff(math.degrees(ex.crank_angle), ang) <= TOL_ANGLE_DEG,
-               math.degrees(ex.crank_angle))
+        _check(
+            results,
+            (mech, f"{name} angle"),
+            _angle_diff(math.degrees(ex.crank_angle), ang) <= TOL_ANGLE_DEG,
+            math.degrees(ex.crank_angle),
+        )
         pm = arm.tip_motion(arm.angle_reference + math.radians(ang))
         ours = pm.speed[0] if "speed" in name else pm.acceleration_magnitude[0]
         tol_abs = TOL_V if "speed" in name else TOL_A

@@ -117,11 +117,18 @@ def test_static_torque_is_gravity_only(type_i):
     fb, ms = type_i.linkage, type_i.masses
     t = np.linspace(0, 2 * np.pi, 73)
     static = dyn.crank_torque(fb.solve(t, 0.0, 0.0), ms)
+
     # potential energy V(t) = g sum m_i y_i; T_static = dV/dtheta
     def v(x):
         m = fb.solve(x)
-        return dyn.STANDARD_GRAVITY * sum(ms.of(k).mass * m.point(k, ms.of(k).com).position[:, 1] for k in
-                                          (Link.CRANK, Link.COUPLER, Link.ROCKER)) * 1e-3
+        return (
+            dyn.STANDARD_GRAVITY
+            * sum(
+                ms.of(k).mass * m.point(k, ms.of(k).com).position[:, 1] for k in (Link.CRANK, Link.COUPLER, Link.ROCKER)
+            )
+            * 1e-3
+        )
+
     h = 1e-5
     np.testing.assert_allclose(static, (v(t + h) - v(t - h)) / (2 * h), atol=1e-8)
 
@@ -180,5 +187,9 @@ def test_bad_mass_data():
     with pytest.raises(SpecError, match="n_harmonics = 40"):
         dyn.harmonics(np.zeros(64), 40)
     with pytest.raises(SpecError, match="component = 'sideways'"):
-        dyn.counterweight(FourBar(88, 33.5, 71.5, 80), dyn.MassModel(dyn.LinkMass(1), dyn.LinkMass(1),
-                          dyn.LinkMass(1)), 20.0, "sideways")
+        dyn.counterweight(
+            FourBar(88, 33.5, 71.5, 80),
+            dyn.MassModel(dyn.LinkMass(1), dyn.LinkMass(1), dyn.LinkMass(1)),
+            20.0,
+            "sideways",
+        )

@@ -76,9 +76,12 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
         if args.plots:
             out = Path(args.plots)
             for fmt in ("png", "svg"):
-                atomic_write(out / f"{study.name}.path.{fmt}", plots.figure_bytes(plots.coupler_curve_figure(study.arm, m), fmt))
                 atomic_write(
-                    out / f"{study.name}.kinematics.{fmt}", plots.figure_bytes(plots.kinematics_figure(study.arm, m), fmt)
+                    out / f"{study.name}.path.{fmt}", plots.figure_bytes(plots.coupler_curve_figure(study.arm, m), fmt)
+                )
+                atomic_write(
+                    out / f"{study.name}.kinematics.{fmt}",
+                    plots.figure_bytes(plots.kinematics_figure(study.arm, m), fmt),
                 )
     return 0
 

@@ -30,12 +30,12 @@ from pathlib import Path
 
 import numpy as np
 
+from transplanter import plots
 from transplanter.errors import PartScriptError, SpecError, TransplanterError
 from transplanter.export import atomic_write, csv_bytes, json_bytes
 from transplanter.linkage import dynamics as dyn
 from transplanter.linkage.fourbar import FourBar, Link
 from transplanter.linkage.planting import PlantingArm
-from transplanter import plots
 
 __all__ = ["ArmStudy", "BalancingStudy", "Family", "load_family", "discover", "build_family"]
 
@@ -147,9 +147,12 @@ class BalancingStudy:
                 for c, w in cw.items()
             },
             "phasing": phasing,
-            "sinusoidal_rocker_moment_kg_mm": [round(v, 9) for v in dyn.sinusoidal_rocker_moment(fb, self.masses.coupler)],
+            "sinusoidal_rocker_moment_kg_mm": [
+                round(v, 9) for v in dyn.sinusoidal_rocker_moment(fb, self.masses.coupler)
+            ],
             "force_balance_moments_kg_mm": {
-                k.value: [round(v, 9) for v in mom] for k, mom in dyn.force_balance_moments(fb, self.masses.coupler).items()
+                k.value: [round(v, 9) for v in mom]
+                for k, mom in dyn.force_balance_moments(fb, self.masses.coupler).items()
             },
         }
         params = {
@@ -191,7 +194,9 @@ class Family:
         seen: set[str] = set()
         for p in self.parts:
             if not isinstance(p, ArmStudy | BalancingStudy):
-                raise PartScriptError(f"family {self.name!r}: parts must be ArmStudy or BalancingStudy, got {type(p).__name__}")
+                raise PartScriptError(
+                    f"family {self.name!r}: parts must be ArmStudy or BalancingStudy, got {type(p).__name__}"
+                )
             _check_name("part", p.name)
             if p.name in seen:
                 raise PartScriptError(f"family {self.name!r}: part name {p.name!r} is used twice")

@@ -51,7 +51,10 @@ def coupler_curve_figure(arm: PlantingArm, metrics: PlantingMetrics | None = Non
     if metrics is not None:
         for ax in (ax1, ax2):
             ax.axhline(metrics.soil_level / 10, color="saddlebrown", ls="--", lw=1, label="soil surface")
-    for ax, title in ((ax1, "relative to the frame"), (ax2, f"relative to the ground, v = {arm.forward_speed / 1000:g} m/s")):
+    for ax, title in (
+        (ax1, "relative to the frame"),
+        (ax2, f"relative to the ground, v = {arm.forward_speed / 1000:g} m/s"),
+    ):
         ax.set_aspect("equal")
         ax.grid(True, lw=0.3)
         ax.set_xlabel("x (cm)")

@@ -282,7 +282,9 @@ class PlantingArm:
         vec = st.velocity if kind == "speed" else st.acceleration
         return Extreme(crank_angle=st.crank_angle, magnitude=math.hypot(*vec), direction=math.atan2(vec[1], vec[0]))
 
-    def metrics(self, planting_depth: float | None = None, soil_level: float | None = None, n: int = 3600) -> PlantingMetrics:
+    def metrics(
+        self, planting_depth: float | None = None, soil_level: float | None = None, n: int = 3600
+    ) -> PlantingMetrics:
         """Seed 000 Table 2 metrics for a soil line ``planting_depth`` above the lowest tip
         position, or at the absolute height ``soil_level`` (mm, drawing frame).
 

@@ -1,0 +1,139 @@
+"""Part scripts, the builder and the command line."""
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+from transplanter import cli
+from transplanter.errors import ExportError, PartScriptError
+from transplanter.export import atomic_write
+from transplanter.families import build_family, discover, load_family
+
+
+def _tree_hashes(root: Path) -> dict[str, str]:
+    return {
+        str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
+        for p in sorted(root.rglob("*"))
+        if p.is_file()
+    }
+
+
+def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir):
+    a, b = tmp_path / "a", tmp_path / "b"
+    assert cli.main(["build", "--parts", str(parts_dir), "-o", str(a)]) == 0
+    assert cli.main(["build", "--parts", str(parts_dir), "-o", str(b)]) == 0
+    ha, hb = _tree_hashes(a), _tree_hashes(b)
+    assert ha == hb
+    assert {Path(k).parts[0] for k in ha} == {"fourbar_seed000", "fourbar_seed001", "fourbar_seed003"}
+    manifest = json.loads((a / "fourbar_seed000" / "manifest.json").read_text())
+    assert manifest["ok"] is True
+    for part in manifest["parts"].values():
+        for fname, digest in part["files"].items():
+            assert hashlib.sha256((a / "fourbar_seed000" / fname).read_bytes()).hexdigest() == digest
+    assert not list(a.rglob("*.tmp")), "no temporary files left behind"
+
+
+def test_build_one_script_with_jobs(tmp_path, parts_dir):
+    out = tmp_path / "o"
+    scripts = [str(parts_dir / "fourbar_seed001.py"), str(parts_dir / "fourbar_seed003.py")]
+    assert cli.main(["build", *scripts, "-o", str(out), "--jobs", "2"]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["fourbar_seed001", "fourbar_seed003"]
+
+
+def test_analyse_prints_the_metrics_table(capsys, parts_dir, tmp_path):
+    assert cli.main(["analyse", str(parts_dir / "fourbar_seed000.py"), "--plots", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "mechanism_B" in out and "loop height" in out and "max speed crank angle" in out
+    assert (tmp_path / "mechanism_B.path.png").stat().st_size > 1000
+
+
+def test_failing_part_keeps_the_others_and_previous_files(tmp_path):
+    script = tmp_path / "two.py"
+    script.write_text(
+        "from transplanter.families import ArmStudy, Family\n"
+        "from transplanter.linkage.fourbar import FourBar\n"
+        "from transplanter.linkage.planting import PlantingArm\n"
+        "DEPTH = {depth}\n"
+        "def family():\n"
+        "    good = PlantingArm(FourBar(125, 40, 100, 85), (-170.0, 60.0), 25.0, 600.0, name='good')\n"
+        "    deep = PlantingArm(FourBar(125, 40, 100, 85), (-170.0, 60.0), 25.0, 600.0, name='deep')\n"
+        "    return Family('two', 'test', (ArmStudy(good, 40.0), ArmStudy(deep, DEPTH)))\n"
+    )
+    out = tmp_path / "out"
+    script.write_text(script.read_text().format(depth=30.0))
+    assert cli.main(["build", str(script), "-o", str(out)]) == 0
+    before = (out / "two" / "deep.metrics.json").read_bytes()
+    # now the second part asks for a planting depth deeper than the whole loop
+    script.write_text(script.read_text().replace("DEPTH = 30.0", "DEPTH = 5000.0"))
+    assert cli.main(["build", str(script), "-o", str(out)]) == 1
+    manifest = json.loads((out / "two" / "manifest.json").read_text())
+    assert manifest["ok"] is False
+    assert "planting_depth must be < loop height" in manifest["parts"]["deep"]["error"]
+    assert "files" in manifest["parts"]["good"]
+    assert (out / "two" / "deep.metrics.json").read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    "source, match",
+    [
+        ("def family(:\n", r"bad.py:1: syntax error"),
+        ("x = 1\n", r"must define family\(\)"),
+        ("def family():\n    return 42\n", r"family\(\) returned int"),
+        ("def family():\n    return 1 / 0\n", r"bad.py:2: family\(\) raised ZeroDivisionError"),
+        (
+            "from transplanter.linkage.fourbar import FourBar\n"
+            "def family():\n    return FourBar(100, 65, 70, 90, branch=2)\n",
+            r"branch = 2 is out of range",
+        ),
+        (
+            "from transplanter.families import Family\ndef family():\n    return Family('bad name/x', 'd')\n",
+            r"family name = 'bad name/x' is out of range",
+        ),
+    ],
+)
+def test_malformed_part_scripts(tmp_path, source, match):
+    p = tmp_path / "bad.py"
+    p.write_text(source)
+    with pytest.raises(PartScriptError, match=match):
+        load_family(p)
+
+
+def test_cli_reports_bad_input_without_traceback(tmp_path, capsys):
+    p = tmp_path / "bad.py"
+    p.write_text("def family(:\n")
+    assert cli.main(["build", str(p), "-o", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err
+    assert "transplanter: error:" in err and "syntax error" in err and "Traceback" not in err
+    assert cli.main(["build", "--parts", str(tmp_path / "nowhere")]) == 2
+
+
+def test_discover_skips_private_scripts(tmp_path):
+    (tmp_path / "_helper.py").write_text("")
+    (tmp_path / "b.py").write_text("")
+    (tmp_path / "a.py").write_text("")
+    assert [p.name for p in discover(tmp_path)] == ["a.py", "b.py"]
+
+
+def test_atomic_write_leaves_previous_file_on_failure(tmp_path, monkeypatch):
+    target = atomic_write(tmp_path / "f.txt", b"old")
+
+    def boom(src, dst):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "replace", boom)
+    with pytest.raises(ExportError, match="No space left on device"):
+        atomic_write(target, b"new")
+    assert target.read_bytes() == b"old"
+    assert [p.name for p in tmp_path.iterdir()] == ["f.txt"]
+
+
+def test_build_family_returns_manifest(tmp_path, parts_dir):
+    fam = load_family(parts_dir / "fourbar_seed003.py")
+    seen = []
+    manifest = build_family(fam, tmp_path, progress=seen.append)
+    assert seen == ["fourbar_seed003/type_I", "fourbar_seed003/type_II"]
+    cw = manifest["parts"]["type_I"]["results"]["counterweight"]["vertical"]
+    assert abs(cw["radius_for_total_mass_mm"] - 35.7) < 0.05
