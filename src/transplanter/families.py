@@ -48,6 +48,18 @@ def _check_name(kind: str, name: str) -> str:
     return name
 
 
+def _linkage_params(fb: FourBar) -> dict:
+    """The linkage's dimensions as manifest parameters (mm, deg)."""
+    return {
+        "ground_mm": fb.ground,
+        "crank_mm": fb.crank,
+        "coupler_mm": fb.coupler,
+        "rocker_mm": fb.rocker,
+        "ground_angle_deg": math.degrees(fb.ground_angle),
+        "branch": fb.branch,
+    }
+
+
 @dataclass(frozen=True)
 class ArmStudy:
     """Kinematic study of a planting arm at a planting depth (mm)."""
@@ -64,12 +76,7 @@ class ArmStudy:
         rows = m.table()
         fb = self.arm.linkage
         params = {
-            "ground_mm": fb.ground,
-            "crank_mm": fb.crank,
-            "coupler_mm": fb.coupler,
-            "rocker_mm": fb.rocker,
-            "ground_angle_deg": math.degrees(fb.ground_angle),
-            "branch": fb.branch,
+            **_linkage_params(fb),
             "tip_mm": list(self.arm.tip),
             "crank_speed_rad_s": self.arm.crank_speed,
             "forward_speed_mm_s": self.arm.forward_speed,
@@ -156,12 +163,7 @@ class BalancingStudy:
             },
         }
         params = {
-            "ground_mm": fb.ground,
-            "crank_mm": fb.crank,
-            "coupler_mm": fb.coupler,
-            "rocker_mm": fb.rocker,
-            "ground_angle_deg": math.degrees(fb.ground_angle),
-            "branch": fb.branch,
+            **_linkage_params(fb),
             "crank_speed_rad_s": self.crank_speed,
             "masses": {
                 k.value: {"mass_kg": lm.mass, "com_mm": list(lm.com), "inertia_kg_mm2": lm.inertia}
