@@ -59,7 +59,6 @@ def _cmd_build(args: argparse.Namespace) -> int:
 
 
 def _cmd_analyse(args: argparse.Namespace) -> int:
-    from transplanter import plots
     from transplanter.export import atomic_write
     from transplanter.families import ArmStudy, load_family
 
@@ -74,15 +73,8 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
         for label, value, unit in m.table():
             print(f"  {label:34s} {value:12.4f} {unit}")
         if args.plots:
-            out = Path(args.plots)
-            for fmt in ("png", "svg"):
-                atomic_write(
-                    out / f"{study.name}.path.{fmt}", plots.figure_bytes(plots.coupler_curve_figure(study.arm, m), fmt)
-                )
-                atomic_write(
-                    out / f"{study.name}.kinematics.{fmt}",
-                    plots.figure_bytes(plots.kinematics_figure(study.arm, m), fmt),
-                )
+            for fname, data in study.plot_files(m).items():
+                atomic_write(Path(args.plots) / fname, data)
     return 0
 
 

@@ -35,7 +35,7 @@ from transplanter.errors import PartScriptError, SpecError, TransplanterError
 from transplanter.export import atomic_write, csv_bytes, json_bytes
 from transplanter.linkage import dynamics as dyn
 from transplanter.linkage.fourbar import FourBar, Link
-from transplanter.linkage.planting import PlantingArm
+from transplanter.linkage.planting import PlantingArm, PlantingMetrics
 
 __all__ = ["ArmStudy", "BalancingStudy", "Family", "load_family", "discover", "build_family"]
 
@@ -71,6 +71,14 @@ class ArmStudy:
     def name(self) -> str:
         return self.arm.name
 
+    def plot_files(self, m: PlantingMetrics) -> dict[str, bytes]:
+        """Tip path and speed/acceleration diagrams, PNG and SVG, by file name."""
+        files = {}
+        for fmt in ("png", "svg"):
+            files[f"{self.name}.path.{fmt}"] = plots.figure_bytes(plots.coupler_curve_figure(self.arm, m), fmt)
+            files[f"{self.name}.kinematics.{fmt}"] = plots.figure_bytes(plots.kinematics_figure(self.arm, m), fmt)
+        return files
+
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         m = self.arm.metrics(planting_depth=self.planting_depth)
         rows = m.table()
@@ -92,9 +100,7 @@ class ArmStudy:
             f"{self.name}.metrics.json": json_bytes({"parameters": params, "metrics": results}),
             f"{self.name}.metrics.csv": csv_bytes(["quantity", "value", "unit"], [[a, b, c] for a, b, c in rows]),
         }
-        for fmt in ("png", "svg"):
-            files[f"{self.name}.path.{fmt}"] = plots.figure_bytes(plots.coupler_curve_figure(self.arm, m), fmt)
-            files[f"{self.name}.kinematics.{fmt}"] = plots.figure_bytes(plots.kinematics_figure(self.arm, m), fmt)
+        files.update(self.plot_files(m))
         return {"kind": "arm", "parameters": params, "results": results}, files
 
 
