@@ -16,6 +16,10 @@ True
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 __all__ = [
     "TransplanterError",
     "SpecError",
@@ -23,6 +27,8 @@ __all__ = [
     "GeometryError",
     "PartScriptError",
     "ExportError",
+    "finite_array",
+    "finite_positive",
 ]
 
 
@@ -52,3 +58,28 @@ class PartScriptError(TransplanterError, ValueError):
 
 class ExportError(TransplanterError, OSError):
     """A file could not be written; nothing half-written is left behind."""
+
+
+def finite_array(name: str, values, ndim: int = 1) -> np.ndarray:
+    """``values`` as a float array; SpecError naming ``name`` if it is not finite."""
+    try:
+        arr = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise SpecError(f"{name} must be numbers, got {values!r}") from exc
+    if arr.ndim != ndim:
+        raise SpecError(f"{name} must be a {ndim}-d array of numbers, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.flatnonzero(~np.isfinite(arr.ravel()))[0])
+        raise SpecError(f"{name} must be finite; item {bad} is {arr.ravel()[bad]!r}")
+    return arr
+
+
+def finite_positive(name: str, value: float) -> float:
+    """``value`` as a float > 0, or SpecError naming it."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError) as exc:
+        raise SpecError(f"{name} must be a number, got {value!r}") from exc
+    if not math.isfinite(v) or v <= 0:
+        raise SpecError.out_of_range(name, value, "finite and > 0")
+    return v

@@ -15,6 +15,12 @@ Part kinds so far
 ``BalancingStudy``
     Mass data of a four-bar: harmonic analysis of the shaking force, crank torque,
     counterweight and multi-arm phasing (seed 003), as JSON and plots.
+``PitchPairStudy``
+    A conjugate pair of pitch curves: closure, ratio check, curvature, pressure angle,
+    tooth count and module (JSON), the curves as CSV points, and plots.
+``PlanetaryStudy``
+    A planetary transplanting train: agronomic metrics beside published values, the
+    sensitivity to stated variants, the trajectory (CSV) and plots.
 """
 
 from __future__ import annotations
@@ -31,13 +37,25 @@ from pathlib import Path
 import numpy as np
 
 from transplanter import plots
+from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.errors import PartScriptError, SpecError, TransplanterError
 from transplanter.export import atomic_write, csv_bytes, json_bytes
 from transplanter.linkage import dynamics as dyn
 from transplanter.linkage.fourbar import FourBar, Link
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics
+from transplanter.pitch import GearPair, Mesh
+from transplanter.planetary import DifferentialTrain
 
-__all__ = ["ArmStudy", "BalancingStudy", "Family", "load_family", "discover", "build_family"]
+__all__ = [
+    "ArmStudy",
+    "BalancingStudy",
+    "PitchPairStudy",
+    "PlanetaryStudy",
+    "Family",
+    "load_family",
+    "discover",
+    "build_family",
+]
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 
@@ -185,7 +203,144 @@ class BalancingStudy:
         return {"kind": "balancing", "parameters": params, "results": results}, files
 
 
-Part = ArmStudy | BalancingStudy
+def _r(value: float, digits: int = 9) -> float | None:
+    """Rounded for the manifest; None for inf (JSON has no infinity: "no limit")."""
+    v = float(value)
+    return round(v, digits) if math.isfinite(v) else None
+
+
+def _curve_summary(curve, teeth: int, module: float) -> dict:
+    return {
+        "lobes": curve.lobes,
+        "teeth": teeth,
+        "module_mm": _r(module),
+        "perimeter_mm": _r(curve.perimeter),
+        "radius_min_mm": _r(curve.min_radius().value),
+        "radius_max_mm": _r(curve.max_radius().value),
+        "convex": bool(curve.is_convex),
+        "min_convex_radius_of_curvature_mm": _r(curve.min_convex_radius()),
+        "min_concave_radius_of_curvature_mm": _r(curve.min_concave_radius()),
+        "max_pressure_deviation_deg": _r(math.degrees(curve.max_pressure_deviation())),
+    }
+
+
+@dataclass(frozen=True)
+class PitchPairStudy:
+    """A conjugate pitch-curve pair with its tooth sizing.
+
+    Give ``teeth`` (driver tooth count) to derive the module, or ``module`` (mm) to scale the
+    curves to a whole number of teeth of that module.
+    """
+
+    name: str
+    pair: GearPair
+    teeth: int | None = None
+    module: float | None = None
+    require_convex: bool = False
+
+    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+        pair, sizing = self.pair.sized(module=self.module, teeth=self.teeth)
+        if self.require_convex:
+            pair.driver.require_convex(f"{self.name} driver")
+            pair.driven.require_convex(f"{self.name} driven")
+        params = {
+            "mesh": pair.mesh.value,
+            "ring": pair.ring,
+            "lobes": list(pair.lobes),
+            "teeth_requested": self.teeth,
+            "module_requested_mm": self.module,
+        }
+        results = {
+            "centre_distance_mm": _r(pair.centre_distance, 12),
+            "closure_error_rad": float(f"{pair.closure_error:.3e}"),
+            "ratio_error": float(f"{pair.ratio_error():.3e}"),
+            "centre_distance_error_mm": float(f"{pair.centre_distance_error():.3e}"),
+            "scale_applied": _r(sizing.scale, 12),
+            "driver": _curve_summary(pair.driver, sizing.teeth[0], sizing.module),
+            "driven": _curve_summary(pair.driven, sizing.teeth[1], sizing.module),
+        }
+        if pair.mesh is Mesh.EXTERNAL:
+            results["convexity_index_p"] = _r(pair.convexity_index().p)
+        phi = np.linspace(0.0, 2 * math.pi, 3601)[:-1]
+        files = {f"{self.name}.pitch.json": json_bytes({"parameters": params, "results": results})}
+        for role, curve in (("driver", pair.driver), ("driven", pair.driven)):
+            pts = curve.points(phi)
+            rows = [[f"{a:.6f}", f"{x:.9f}", f"{y:.9f}"] for a, (x, y) in zip(np.degrees(phi), pts, strict=True)]
+            files[f"{self.name}.{role}.csv"] = csv_bytes(["polar_angle_deg", "x_mm", "y_mm"], rows)
+        for fmt in ("png", "svg"):
+            files[f"{self.name}.pitch.{fmt}"] = plots.figure_bytes(plots.pitch_pair_figure(pair, self.name), fmt)
+        return {"kind": "pitch_pair", "parameters": params, "results": results}, files
+
+
+@dataclass(frozen=True)
+class PlanetaryStudy:
+    """Agronomic study of a planetary transplanting train.
+
+    ``reference`` holds published values ``(quantity, value, unit)`` to tabulate beside the
+    computed ones (quantities as in :meth:`TransplantingMetrics.table`); ``variants`` holds
+    ``(label, train)`` alternatives whose metrics show what the result depends on.
+    """
+
+    name: str
+    train: DifferentialTrain
+    seedling_box: tuple[float, float]
+    plant_spacing: float
+    planting_depth: float
+    gearbox_radius: float
+    reference: tuple[tuple[str, float, str], ...] = ()
+    variants: tuple[tuple[str, DifferentialTrain], ...] = ()
+
+    def metrics(self, train: DifferentialTrain | None = None) -> TransplantingMetrics:
+        return transplanting_metrics(
+            train or self.train, self.seedling_box, self.plant_spacing, self.planting_depth, self.gearbox_radius
+        )
+
+    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+        m = self.metrics()
+        tr = self.train
+        ref = {q: v for q, v, _ in self.reference}
+        rows = [[q, _r(v, 6), ref.get(q, ""), u] for q, v, u in m.table()]
+        params = {
+            "centre_distance_mm": _r(tr.pair.centre_distance, 12),
+            "lobes": list(tr.pair.lobes),
+            "planets": tr.planets,
+            "speed_ratio_ring_to_carrier": _r(tr.speed_ratio, 12),
+            "carrier_start_deg": _r(math.degrees(tr.carrier_start)),
+            "arm_tip_S_mm": tr.arm.tip,
+            "arm_knee_H1_mm": tr.arm.knee,
+            "arm_mount_beta_deg": _r(math.degrees(tr.arm.mount)),
+            "seedling_box_mm": list(self.seedling_box),
+            "plant_spacing_mm": self.plant_spacing,
+            "planting_depth_mm": self.planting_depth,
+            "gearbox_radius_mm": self.gearbox_radius,
+        }
+        results = {
+            "metrics": {q: {"value": _r(v, 6), "unit": u, "published": ref.get(q)} for q, v, u in m.table()},
+            "phase_error_mm": float(f"{tr.phase_error():.3e}"),
+            "trajectory_closure_mm": float(f"{tr.closure_error():.3e}"),
+            "variants": {
+                label: {q: _r(v, 6) for q, v, _ in self.metrics(variant).table()} for label, variant in self.variants
+            },
+        }
+        cyc = tr.cycle(1440)
+        traj = [
+            [f"{t:.6f}", f"{x:.6f}", f"{y:.6f}", f"{a:.6f}"]
+            for t, (x, y), a in zip(np.degrees(cyc.theta), cyc.tip, np.degrees(cyc.attitude), strict=True)
+        ]
+        files = {
+            f"{self.name}.metrics.json": json_bytes({"parameters": params, "results": results}),
+            f"{self.name}.metrics.csv": csv_bytes(["quantity", "value", "published", "unit"], rows),
+            f"{self.name}.trajectory.csv": csv_bytes(
+                ["carrier_angle_deg", "tip_x_mm", "tip_y_mm", "attitude_deg"], traj
+            ),
+        }
+        for fmt in ("png", "svg"):
+            fig = plots.planetary_trajectory_figure(tr, m, self.name, self.seedling_box)
+            files[f"{self.name}.trajectory.{fmt}"] = plots.figure_bytes(fig, fmt)
+        return {"kind": "planetary", "parameters": params, "results": results}, files
+
+
+Part = ArmStudy | BalancingStudy | PitchPairStudy | PlanetaryStudy
 
 
 @dataclass(frozen=True)
@@ -201,9 +356,10 @@ class Family:
         object.__setattr__(self, "parts", tuple(self.parts))
         seen: set[str] = set()
         for p in self.parts:
-            if not isinstance(p, ArmStudy | BalancingStudy):
+            if not isinstance(p, Part):
                 raise PartScriptError(
-                    f"family {self.name!r}: parts must be ArmStudy or BalancingStudy, got {type(p).__name__}"
+                    f"family {self.name!r}: parts must be one of ArmStudy, BalancingStudy, PitchPairStudy, "
+                    f"PlanetaryStudy; got {type(p).__name__}"
                 )
             _check_name("part", p.name)
             if p.name in seen:

@@ -18,7 +18,14 @@ import numpy as np  # noqa: E402
 
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics  # noqa: E402
 
-__all__ = ["figure_bytes", "coupler_curve_figure", "kinematics_figure", "shaking_figure"]
+__all__ = [
+    "figure_bytes",
+    "coupler_curve_figure",
+    "kinematics_figure",
+    "shaking_figure",
+    "pitch_pair_figure",
+    "planetary_trajectory_figure",
+]
 
 _METADATA = {
     "png": {"Software": None},
@@ -109,5 +116,77 @@ def shaking_figure(angle_deg: np.ndarray, force: np.ndarray, torque: np.ndarray,
     for ax in (ax1, ax2):
         ax.grid(True, lw=0.3)
         ax.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    return fig
+
+
+def pitch_pair_figure(pair, title: str) -> plt.Figure:
+    """Both pitch curves in mesh at the start (left) and their ratio and curvature (right)."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    phi = np.linspace(0.0, 2 * math.pi, 2001)
+    p1 = pair.driver.points(phi)
+    a = pair.centre_distance
+    p2 = pair.driven.points(phi)
+    if pair.mesh.value == "external":  # driven body frame is turned by π at the start
+        p2 = np.stack([a - p2[:, 0], -p2[:, 1]], axis=1)
+    else:
+        p2 = p2 + [a, 0.0]
+    ax1.plot(p1[:, 0], p1[:, 1], "C0-", label=f"driver ({pair.driver.lobes} lobes)")
+    ax1.plot(p2[:, 0], p2[:, 1], "C1-", label=f"driven ({pair.driven.lobes} lobes)")
+    ax1.plot([0, a], [0, 0], "k+", ms=10)
+    ax1.set_aspect("equal")
+    ax1.grid(True, lw=0.3)
+    ax1.legend(fontsize=7)
+    ax1.set_xlabel("x (mm)")
+    ax1.set_ylabel("y (mm)")
+    ax1.set_title(f"{title}: pitch curves, a = {a:.4f} mm", fontsize=9)
+    deg = np.degrees(phi)
+    ax2.plot(deg, pair.ratio(phi), "k-", label="ratio ω2/ω1")
+    ax2.set_xlabel("driver angle (deg)")
+    ax2.set_ylabel("ratio")
+    ax2.grid(True, lw=0.3)
+    ax3 = ax2.twinx()
+    ax3.plot(deg, np.degrees(pair.driver.pressure_deviation(phi)), "C0--", lw=0.8, label="driver ν")
+    ax3.set_ylabel("pitch-curve pressure deviation ν (deg)")
+    ax2.set_xlim(0, 360)
+    ax2.set_xticks(range(0, 361, 45))
+    ax2.legend(fontsize=7, loc="upper left")
+    ax3.legend(fontsize=7, loc="upper right")
+    fig.tight_layout()
+    return fig
+
+
+def planetary_trajectory_figure(train, metrics, title: str, seedling_box=None, cycles: int = 2) -> plt.Figure:
+    """Static trajectory with all arms at the start (left) and the absolute trajectory (right)."""
+    n = 1440
+    cyc = train.cycle(n)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5.5), gridspec_kw={"width_ratios": [1, 1.4]})
+    ax1.plot(cyc.tip[:, 0], cyc.tip[:, 1], "C0-", lw=1.4, label="tip trajectory")
+    for k in range(train.planets):
+        s = train.state(np.array([0.0]), k)
+        xs = [s.centre[0, 0], s.knee[0, 0], s.tip[0, 0]]
+        ys = [s.centre[0, 1], s.knee[0, 1], s.tip[0, 1]]
+        ax1.plot(xs, ys, "-o", color=f"C{k + 2}", ms=3, lw=1.2, label=f"arm {k + 1} at start")
+    ax1.add_patch(plt.Circle((0, 0), train.pair.centre_distance, fill=False, ls=":", color="0.5"))
+    ax1.plot(*metrics.picking_point, "g^", label=f"picking {metrics.picking_angle:.1f}°")
+    ax1.plot(*metrics.pushing_point, "rv", label=f"pushing {metrics.pushing_angle:.1f}°")
+    if seedling_box is not None:
+        ax1.plot(*seedling_box, "ks", label="seedling box")
+    ax1.axhline(metrics.soil_level, color="saddlebrown", ls="--", lw=1, label="soil surface")
+    theta = np.linspace(0.0, 2 * math.pi * cycles, n * cycles + 1)
+    tip = train.state(theta).tip
+    gx = tip[:, 0] + metrics.travel_direction * metrics.forward_speed * theta / train.carrier_speed
+    ax2.plot(gx, tip[:, 1], "C1-", lw=1.2)
+    ax2.axhline(metrics.soil_level, color="saddlebrown", ls="--", lw=1)
+    for ax, sub in (
+        (ax1, "relative to the frame"),
+        (ax2, f"relative to the ground, spacing {metrics.plant_spacing:g} mm"),
+    ):
+        ax.set_aspect("equal")
+        ax.grid(True, lw=0.3)
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("y (mm)")
+        ax.set_title(f"{title}: {sub}", fontsize=9)
+    ax1.legend(fontsize=6, loc="best")
     fig.tight_layout()
     return fig

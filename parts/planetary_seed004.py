@@ -1,0 +1,96 @@
+"""Seed 004 (Zhou et al. 2022): differential internal-engagement non-circular planetary train.
+
+Published parameters: n = 4, r0..r10 at θ = 0, 30, ..., 300 deg (r11 at 330 deg is missing
+from the paper), φH0 = 40 deg, S = 150 mm, β = -40 deg, H1 = 80 mm, seedling box at
+(Yx, Yy) = (165, 70) mm inclined at Ya = 52 deg; three planets at 120 deg.
+
+Reading (the paper does not say which gear the radii describe nor what θ measures):
+
+* n = 4 is the ring:planet lobe ratio — a 4-lobed ring and a 1-lobed planet. With three
+  planets at 120 deg the arms are identical only if ``(n - 1)/3`` is an integer, so n = 4
+  is the smallest workable choice, and the ring must turn at ω1/ω2 = 3/4 of the carrier
+  speed for the arm to return to its attitude every carrier turn without net rotation.
+* r_i is the ring's pitch radius at the meshing point when the carrier has turned θ_i
+  from the start (θ is the carrier angle, the paper's "known variable"). Over one carrier
+  turn the carrier advances a quarter turn in the ring, so the ring's pitch curve is the
+  r_i spline compressed to a 90 deg lobe: ring body angle = -θ/4 (the ring turns
+  counter-clockwise relative to the carrier, eq. 4). The planet is its conjugate; the
+  centre distance |OO1| = 57.749 mm (not published) is what closes the planet.
+* r11 is missing: the periodic cubic spline runs through the 11 published radii only.
+  ``VARIANTS`` shows what the results depend on (r11 = 94..100 mm, quintic spline).
+
+The other readings fail: radii describing the planet (ring = 4-lobed conjugate) need
+|OO1| = 260.6 mm and give a 550 mm trajectory; radii over the ring's full turn (one lobe)
+cannot mesh with any closed planet.
+
+Under this reading the trajectory comes out close to the paper (picking 337.3 vs 342 deg,
+pushing 289.4 vs 296 deg, difference 47.9 vs 46 deg) but the gear pair is extreme: the planet
+pitch curve passes 3.84 mm from its axis and the pitch-curve pressure deviation reaches
+64.5 deg; the ``seed004`` pitch study reports these figures.
+"""
+
+import math
+
+import numpy as np
+
+from transplanter.families import Family, PitchPairStudy, PlanetaryStudy
+from transplanter.pitch import GearPair, PitchCurve
+from transplanter.planetary import ArmGeometry, DifferentialTrain
+
+LOBES = 4  # n
+CARRIER_ANGLES_DEG = (0, 30, 60, 90, 120, 150, 180, 210, 240, 270, 300)
+RING_RADII_MM = (100.0, 98.5, 101.0, 81.0, 82.0, 66.0, 64.0, 79.5, 83.0, 95.0, 98.0)
+CARRIER_START = math.radians(40.0)  # φH0
+ARM = ArmGeometry(tip=150.0, knee=80.0, mount=math.radians(-40.0))  # S, H1, β
+SEEDLING_BOX = (165.0, 70.0)  # (Yx, Yy), mm
+PLANT_SPACING = 120.0  # mm, mid of the paper's 60-180 mm range
+PLANTING_DEPTH = 30.0  # mm, not published
+RING_TEETH = 80  # 20 on the planet; the module follows from the perimeter
+PUBLISHED = (
+    ("trajectory height", 245.0, "mm"),
+    ("picking angle", 342.0, "deg"),
+    ("pushing angle", 296.0, "deg"),
+    ("angle difference", 46.0, "deg"),
+)
+PUBLISHED_MODULE = 2.78  # mm
+
+
+def ring_curve(r11: float | None = None, degree: int = 3) -> PitchCurve:
+    """The ring's 4-lobed pitch curve from the published radii (see the reading above)."""
+    theta = list(CARRIER_ANGLES_DEG) + ([330] if r11 is not None else [])
+    radii = list(RING_RADII_MM) + ([r11] if r11 is not None else [])
+    body = np.mod(-np.radians(theta) / LOBES, 2 * math.pi / LOBES)
+    order = np.argsort(body)
+    return PitchCurve.from_polar_points(body[order], np.asarray(radii)[order], lobes=LOBES, degree=degree)
+
+
+def gear_pair(r11: float | None = None, degree: int = 3) -> GearPair:
+    return GearPair.from_driver(ring_curve(r11, degree), "internal", driven_lobes=1)
+
+
+def train(r11: float | None = None, degree: int = 3) -> DifferentialTrain:
+    return DifferentialTrain(gear_pair(r11, degree), ARM, CARRIER_START, planets=3)
+
+
+VARIANTS = tuple((f"r11 = {r:g} mm", (r, 3)) for r in (94.0, 96.0, 98.0, 100.0)) + (("quintic spline", (None, 5)),)
+
+
+def family() -> Family:
+    pair = gear_pair()
+    return Family(
+        name="planetary_seed004",
+        description="Seed 004 differential internal non-circular planetary train: ring/planet pair and trajectory",
+        parts=(
+            PitchPairStudy("ring_planet_pitch", pair, teeth=RING_TEETH),
+            PlanetaryStudy(
+                "transplanting_train",
+                DifferentialTrain(pair, ARM, CARRIER_START, planets=3),
+                seedling_box=SEEDLING_BOX,
+                plant_spacing=PLANT_SPACING,
+                planting_depth=PLANTING_DEPTH,
+                gearbox_radius=pair.driver.max_radius().value + 10.0,
+                reference=PUBLISHED,
+                variants=tuple((label, train(*args)) for label, args in VARIANTS),
+            ),
+        ),
+    )

@@ -1,0 +1,159 @@
+"""Seed-004 differential planetary train: kinematics, reading, agronomic metrics."""
+
+import math
+import runpy
+
+import numpy as np
+import pytest
+import shapely
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import integrate
+
+from transplanter.agronomy import segment_distance, transplanting_metrics
+from transplanter.errors import SpecError
+from transplanter.families import build_family, load_family
+from transplanter.pitch import Constant, GearPair, PitchCurve
+from transplanter.planetary import ArmGeometry, DifferentialTrain
+
+
+@pytest.fixture(scope="module")
+def seed004(parts_dir):
+    return runpy.run_path(str(parts_dir / "planetary_seed004.py"))
+
+
+@pytest.fixture(scope="module")
+def metrics004(seed004):
+    tr = seed004["train"]()
+    pair = tr.pair
+    return transplanting_metrics(
+        tr, seed004["SEEDLING_BOX"], seed004["PLANT_SPACING"], seed004["PLANTING_DEPTH"], pair.driver.max_radius().value
+    )
+
+
+def test_train_follows_seed_equations(seed004):
+    """Eqs 1-10 integrated independently (solve_ivp on the ring radius) give the same tip."""
+    tr = seed004["train"]()
+    ring = tr.pair.driver
+    a = tr.pair.centre_distance
+    theta = np.linspace(0, 2 * math.pi, 181)
+    gamma1 = (1 - tr.speed_ratio) * theta
+
+    def rate(g, _y):  # dγ2/dγ1 = r1/r2 with the contact at ring body angle -γ1
+        r1 = float(ring.r(-g))
+        return [r1 / (r1 - a)]
+
+    sol = integrate.solve_ivp(rate, (0, gamma1[-1]), [0.0], t_eval=gamma1, rtol=1e-12, atol=1e-12)
+    gamma2 = sol.y[0]
+    phi_h = tr.carrier_start - theta
+    phi2 = phi_h + gamma2
+    s, beta = tr.arm.tip, tr.arm.mount
+    tip = a * np.c_[np.cos(phi_h), np.sin(phi_h)] + s * np.c_[np.cos(phi2 + beta), np.sin(phi2 + beta)]
+    assert np.max(np.linalg.norm(tr.state(theta).tip - tip, axis=1)) < 1e-6  # solve_ivp rtol 1e-12 on 150 mm
+
+
+def test_seed004_reading_closes_and_repeats(seed004):
+    tr = seed004["train"]()
+    assert tr.pair.lobes == (4, 1)
+    assert tr.speed_ratio == 0.75
+    assert tr.relative_turns == pytest.approx(1.0, abs=1e-15)
+    assert tr.pair.closure_error < 1e-9
+    assert tr.closure_error() < 1e-9  # the arm returns to its start every carrier turn
+    assert tr.phase_error() < 1e-9  # three identical arms, 120 deg apart
+    s = tr.state(np.array([0.0, 2 * math.pi]))
+    assert s.planet_angle[1] - s.planet_angle[0] == pytest.approx(0.0, abs=1e-9)  # no net arm rotation
+    assert tr.pair.centre_distance == pytest.approx(57.7489, abs=1e-4)
+
+
+def test_seed004_metrics_beside_the_paper(metrics004):
+    m = metrics004
+    # Paper: picking 342, pushing 296, difference 46 deg. Our reading differs by the amounts
+    # README explains (the missing r11, the paper's unstated spline); pin the measured values.
+    assert m.picking_angle == pytest.approx(337.31, abs=0.05)
+    assert m.pushing_angle == pytest.approx(289.37, abs=0.05)
+    assert m.angle_difference == pytest.approx(47.94, abs=0.05)
+    assert abs(m.picking_angle - 342) < 6 and abs(m.pushing_angle - 296) < 8 and abs(m.angle_difference - 46) < 3
+    # Paper height 245 mm; ours 283 mm (the paper does not define its height; see README).
+    assert m.trajectory_height == pytest.approx(283.18, abs=0.05)
+    assert m.picking_box_distance < 12  # the tip reaches the seedling box opening
+    assert m.hole_width < 30  # seed 004 requirement ix at 120 mm spacing
+    assert m.needle_clearance > 20
+
+
+def test_published_module_needs_a_fractional_tooth_count(seed004):
+    pair = seed004["gear_pair"]()
+    _, sizing = pair.sized(teeth=80)
+    assert sizing.module == pytest.approx(2.8411, abs=1e-4)
+    teeth_at_published = pair.driver.perimeter / (math.pi * seed004["PUBLISHED_MODULE"])
+    assert teeth_at_published == pytest.approx(81.76, abs=0.01)  # not a multiple of 4 lobes
+
+
+def test_other_readings_are_not_physical(seed004):
+    """The radii as the planet's curve need |OO1| = 260.6 mm and a trajectory over 500 mm tall."""
+    planet = PitchCurve.from_polar_points(np.radians(seed004["CARRIER_ANGLES_DEG"]), seed004["RING_RADII_MM"])
+    ring_pair = GearPair.from_driver(planet, "internal", 4)  # the planet's 4-lobed ring
+    assert ring_pair.centre_distance == pytest.approx(260.56, abs=0.01)
+    pair = GearPair.from_driver(ring_pair.driven, "internal", 1)  # the same pair, ring driving
+    assert pair.centre_distance == pytest.approx(ring_pair.centre_distance, abs=1e-9)
+    tr = DifferentialTrain(pair, seed004["ARM"], seed004["CARRIER_START"])
+    assert np.ptp(tr.cycle(720).tip[:, 1]) > 500
+
+
+def test_seed004_manufacturability_figures(seed004):
+    pair = seed004["gear_pair"]()
+    planet = pair.driven
+    assert planet.min_radius().value == pytest.approx(3.84, abs=0.01)
+    assert math.degrees(planet.max_pressure_deviation()) == pytest.approx(64.5, abs=0.1)
+    assert not planet.is_convex and not pair.driver.is_convex
+
+
+def test_translating_arm_with_circular_gears():
+    """Circular ring (4 'lobes') and planet: the arm translates, the tip draws a circle of radius a."""
+    ring = PitchCurve(Constant(80.0, period=math.pi / 2))
+    pair = GearPair.from_driver(ring, "internal", 1)
+    assert pair.centre_distance == pytest.approx(60.0, abs=1e-12)
+    tr = DifferentialTrain(pair, ArmGeometry(150.0, 80.0, -0.5), carrier_start=0.3)
+    m = transplanting_metrics(tr, (100.0, 50.0), 100.0, 20.0, 90.0)
+    assert m.trajectory_height == pytest.approx(120.0, abs=1e-9)
+    assert m.angle_difference == pytest.approx(0.0, abs=1e-9)
+    c = tr.cycle(360)
+    assert np.ptp(c.attitude) < 1e-12
+    centre = np.array([150 * math.cos(0.3 - 0.5), 150 * math.sin(0.3 - 0.5)])
+    assert np.allclose(np.linalg.norm(c.tip - centre, axis=1), 60.0, atol=1e-12)
+    assert m.gearbox_clearance == pytest.approx(-90.0 - m.soil_level, abs=1e-12)
+
+
+def test_train_rejects_bad_input():
+    ext = GearPair.from_driver(PitchCurve.ellipse(40, 0.2), "external", 1)
+    with pytest.raises(SpecError, match="ring as driver"):
+        DifferentialTrain(ext, ArmGeometry(150, 80, 0), 0.0)
+    with pytest.raises(SpecError, match="knee"):
+        ArmGeometry(tip=80.0, knee=90.0, mount=0.0)
+    with pytest.raises(SpecError, match="tip"):
+        ArmGeometry(tip=float("nan"), knee=10.0, mount=0.0)
+    ring = GearPair.from_driver(PitchCurve.ellipse(80, 0.05, 4), "internal", 1)
+    with pytest.raises(SpecError, match="speed_ratio"):
+        DifferentialTrain(ring, ArmGeometry(150, 80, 0), 0.0, speed_ratio=1.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(-50, 50).map(lambda v: round(v, 6)), min_size=8, max_size=8))  # shapely NaNs on 1e-300
+def test_segment_distance_matches_shapely(c):
+    p0, p1, q0, q1 = (np.array([[c[i], c[i + 1]]]) for i in range(0, 8, 2))
+    ours = float(segment_distance(p0, p1, q0, q1)[0])
+    ref = shapely.distance(shapely.LineString([p0[0], p1[0]]), shapely.LineString([q0[0], q1[0]]))
+    assert ours == pytest.approx(ref, abs=1e-9)
+
+
+def test_seed004_family_builds(parts_dir, tmp_path):
+    fam = load_family(parts_dir / "planetary_seed004.py")
+    manifest = build_family(fam, tmp_path)
+    assert manifest["ok"], manifest
+    res = manifest["parts"]["transplanting_train"]["results"]
+    assert res["metrics"]["picking angle"]["published"] == 342.0
+    assert set(res["variants"]) == {"r11 = 94 mm", "r11 = 96 mm", "r11 = 98 mm", "r11 = 100 mm", "quintic spline"}
+    heights = [v["trajectory height"] for v in res["variants"].values()]
+    assert max(heights) - min(heights) < 7  # r11 and the spline degree move the height by < 7 mm
+    pitch = manifest["parts"]["ring_planet_pitch"]["results"]
+    assert pitch["driver"]["teeth"] == 80 and pitch["driven"]["teeth"] == 20
+    assert (tmp_path / "planetary_seed004" / "transplanting_train.trajectory.png").stat().st_size > 10_000
