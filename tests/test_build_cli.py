@@ -142,3 +142,11 @@ def test_build_family_returns_manifest(tmp_path, parts_dir):
     assert seen == ["fourbar_seed003/type_I", "fourbar_seed003/type_II"]
     cw = manifest["parts"]["type_I"]["results"]["counterweight"]["vertical"]
     assert abs(cw["radius_for_total_mass_mm"] - 35.7) < 0.05
+
+
+def test_analyse_prints_planetary_metrics_beside_the_paper(parts_dir, capsys):
+    assert cli.main(["analyse", str(parts_dir / "planetary_seed004.py")]) == 0
+    out = capsys.readouterr().out
+    assert "published" in out
+    line = next(ln for ln in out.splitlines() if ln.strip().startswith("picking angle"))
+    assert "337.30" in line and "342.00" in line

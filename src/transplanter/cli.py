@@ -2,8 +2,9 @@
 
 ``transplanter build`` with no arguments builds every part script in ``./parts`` into
 ``./exports/<family>/``; ``transplanter build parts/x.py -o DIR --jobs N`` builds the named
-scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the arms in a
-script (the paper's Table 2 layout) and, with ``--plots DIR``, writes their plots.
+scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the four-bar arms
+(the seed-000 Table 2 layout) and planetary trains (beside published values) in a script and,
+with ``--plots DIR``, writes the arms' plots.
 Exit status: 0 on success, 1 if any part failed, 2 on bad input (message on stderr).
 """
 
@@ -60,13 +61,22 @@ def _cmd_build(args: argparse.Namespace) -> int:
 
 def _cmd_analyse(args: argparse.Namespace) -> int:
     from transplanter.export import atomic_write
-    from transplanter.families import ArmStudy, load_family
+    from transplanter.families import ArmStudy, PlanetaryStudy, load_family
 
     fam = load_family(args.script)
     arms = [p for p in fam.parts if isinstance(p, ArmStudy)]
-    if not arms:
-        print(f"{args.script}: family {fam.name!r} has no planting arms to analyse", file=sys.stderr)
+    trains = [p for p in fam.parts if isinstance(p, PlanetaryStudy)]
+    if not arms and not trains:
+        print(f"{args.script}: family {fam.name!r} has no planting arms or trains to analyse", file=sys.stderr)
         return 2
+    for study in trains:
+        m = study.metrics()
+        ref = {q: v for q, v, _ in study.reference}
+        print(f"\n{fam.name} / {study.name}  (planetary, {study.train.planets} arms)")
+        print(f"  {'quantity':40s} {'value':>12s} {'published':>10s}")
+        for label, value, unit in m.table():
+            pub = f"{ref[label]:10.2f}" if label in ref else " " * 10
+            print(f"  {label:40s} {value:12.4f} {pub} {unit}")
     for study in arms:
         m = study.arm.metrics(planting_depth=study.planting_depth)
         print(f"\n{fam.name} / {study.name}  ({study.arm.linkage.grashof_class().value})")
