@@ -30,7 +30,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import BSpline, make_interp_spline
+from scipy.interpolate import BSpline, PPoly, make_interp_spline
 
 from transplanter.errors import SpecError, finite_array, finite_positive
 
@@ -44,6 +44,7 @@ __all__ = [
     "Scaled",
     "PeriodicIntegral",
     "invert_increasing",
+    "quintic_hermite",
 ]
 
 _MAX_NU = 2
@@ -367,3 +368,17 @@ def invert_increasing(
         if np.all(np.abs(step) <= tol * span):
             break
     return x
+
+
+def quintic_hermite(x, p, d, a) -> PPoly:
+    """scipy PPoly through values ``p``, first ``d`` and second ``a`` derivatives at ``x``.
+
+    ``p, d, a`` have shape (n, ...); the coefficients are the standard quintic Hermite ones.
+    """
+    h = np.diff(x).reshape((-1,) + (1,) * (p.ndim - 1))
+    p0, p1, d0, d1, a0, a1 = p[:-1], p[1:], d[:-1], d[1:], a[:-1], a[1:]
+    dp = p1 - p0
+    c5 = (12 * dp - 6 * (d1 + d0) * h - (a0 - a1) * h**2) / (2 * h**5)
+    c4 = (-30 * dp + (14 * d1 + 16 * d0) * h + (3 * a0 - 2 * a1) * h**2) / (2 * h**4)
+    c3 = (20 * dp - (8 * d1 + 12 * d0) * h - (3 * a0 - a1) * h**2) / (2 * h**3)
+    return PPoly(np.stack([c5, c4, c3, a0 / 2, d0, p0]), x)

@@ -1,0 +1,225 @@
+"""Shaper-cutter envelope teeth against exact involutes and the brute-force Boolean reference.
+
+Tolerances: FLANK = 1 µm is the issue's accuracy target. Envelope points are exact to the
+pitch-frame accuracy (< 1e-9 mm), the outline's chords are within CHORD_TOLERANCE (0.25 µm)
+of the envelope, and the Boolean reference with 200 positions per pitch and 200 outline
+points per profile piece is itself within ~0.02 µm, so 1 µm leaves margin on every side.
+"""
+
+import math
+import runpy
+
+import numpy as np
+import pytest
+import shapely
+
+from transplanter.cutter import ShaperCutter, involute
+from transplanter.errors import GeometryError, SpecError
+from transplanter.pitch import GearPair, PitchCurve
+from transplanter.teeth import CHORD_TOLERANCE, ArcFrame, boolean_reference, flank_deviation, generate
+
+FLANK = 1e-3  # mm
+
+
+def _space_width(z, m, x, internal, cutter):
+    """Exact tooth-space width on the pitch circle of a circular gear cut by ``cutter``."""
+    big_r, rc, al = z * m / 2, cutter.pitch_radius, cutter.pressure_angle
+    sc = math.pi * m / 2 + cutter.thickening
+    if internal:
+        a = big_r - rc
+        alp = math.acos(a * math.cos(al) / (a - x * m))
+        return sc + 2 * (big_r - rc) * (involute(alp) - involute(al))
+    a = big_r + rc
+    alp = math.acos(a * math.cos(al) / (a + x * m))
+    return sc - 2 * (big_r + rc) * (involute(alp) - involute(al))
+
+
+def _involute_deviation(gear, z, m, x, internal, points_of):
+    """Largest normal distance (mm) of points from the exact involute flanks of the gear."""
+    big_r = z * m / 2
+    al = gear.cutter.pressure_angle
+    rb = big_r * math.cos(al)
+    e = _space_width(z, m, x, internal, gear.cutter)
+    worst = 0.0
+    for sp in gear.spaces:
+        pts = points_of(sp)
+        rho = np.linalg.norm(pts, axis=1)
+        d = np.angle(np.exp(1j * (np.arctan2(pts[:, 1], pts[:, 0]) - sp.s / big_r)))
+        a_rho = np.arccos(np.clip(rb / rho, -1, 1))
+        sign = -1 if internal else 1
+        half = e / (2 * big_r) + sign * (involute(a_rho) - involute(al))
+        worst = max(worst, float(np.max(np.abs(rb * (np.abs(d) - half)))))  # involutes are parallel: r_b Δθ
+    return worst
+
+
+def _surviving_flank_points(gear):
+    boundary = gear.polygon.boundary
+
+    def pick(sp):
+        pts = np.concatenate([sp.lower, sp.upper])
+        return pts[shapely.distance(boundary, shapely.points(pts)) < 1e-6]
+
+    return pick
+
+
+CIRCULAR = [
+    (12, 0.45, False),
+    (17, 0.0, False),
+    (30, 0.3, False),
+    (30, -0.25, False),
+    (120, 0.0, False),
+    (40, 0.0, True),
+    (60, 0.3, True),
+    (200, 0.0, True),
+]
+
+
+@pytest.mark.parametrize(("z", "x", "internal"), CIRCULAR)
+def test_circular_gears_are_exact_involutes(z, x, internal):
+    m = 2.0
+    cutter = ShaperCutter(20, m, dedendum=1.6, thickening=0.05)
+    gear = generate(PitchCurve.circle(z * m / 2), cutter, z, internal=internal, shift=x, allow_undercut=True)
+    assert gear.polygon.is_valid and gear.teeth == z
+    # the exact envelope points
+    dev = _involute_deviation(gear, z, m, x, internal, _surviving_flank_points(gear))
+    assert dev < 1e-9
+    # the outline itself: exact involute points sampled densely, distance to the polygon boundary
+    rb = z * m / 2 * math.cos(cutter.pressure_angle)
+    boundary = gear.polygon.boundary
+    sp = gear.spaces[z // 3]
+    for flank in (sp.lower, sp.upper):
+        on = flank[shapely.distance(boundary, shapely.points(flank)) < 1e-6]
+        rho = np.linspace(np.linalg.norm(on, axis=1).min(), np.linalg.norm(on, axis=1).max(), 400)
+        sgn = math.copysign(
+            1.0, float(np.mean(np.angle(np.exp(1j * (np.arctan2(on[:, 1], on[:, 0]) - sp.s * 2 / (z * m))))))
+        )
+        e = _space_width(z, m, x, internal, cutter)
+        a_rho = np.arccos(np.clip(rb / rho, -1, 1))
+        half = e / (z * m) + (-1 if internal else 1) * (involute(a_rho) - involute(cutter.pressure_angle))
+        ang = sp.s * 2 / (z * m) + sgn * half
+        exact = np.stack([rho * np.cos(ang), rho * np.sin(ang)], axis=1)
+        assert float(shapely.distance(boundary, shapely.points(exact)).max()) < CHORD_TOLERANCE + 1e-9
+
+
+def test_cutter_profile_is_an_exact_involute():
+    c = ShaperCutter(24, 1.5, thickening=0.02)
+    tau = np.concatenate([np.linspace(1, 2, 101), np.linspace(5, 6, 101)])
+    q, n, k = c.profile(tau)
+    assert np.max(np.abs(np.abs(k) - c.base_radius)) < 1e-12  # normals tangent to the base circle
+    rho = np.linalg.norm(q, axis=1)
+    ang = np.abs(np.arctan2(q[:, 1], q[:, 0]))
+    assert np.max(np.abs(ang - c.half_thickness_angle(rho))) < 1e-12
+    # normals are unit and perpendicular to the profile everywhere, and the profile is continuous
+    tau = np.linspace(0, 7, 7001)[1:-1]
+    q, n, _ = c.profile(tau)
+    h = 1e-7
+    dq = (c.profile(np.clip(tau + h, 0, 7))[0] - c.profile(np.clip(tau - h, 0, 7))[0]) / (2 * h)
+    dq /= np.linalg.norm(dq, axis=1)[:, None]
+    assert np.max(np.abs(np.einsum("ij,ij->i", dq, n))) < 1e-5
+    assert np.max(np.abs(np.linalg.norm(n, axis=1) - 1)) < 1e-15
+    joints = np.arange(1, 7, dtype=float)
+    left, right = c.profile(joints - 1e-13)[0], c.profile(joints + 1e-13)[0]
+    assert np.max(np.linalg.norm(left - right, axis=1)) < 1e-9
+
+
+def test_arc_frame_matches_the_exact_curve():
+    curve = PitchCurve.ellipse(40.0, 0.4, 2)
+    frame = ArcFrame.from_curve(curve)
+    s = np.random.default_rng(1).uniform(0, frame.length, 500)
+    p, t, nrm, kap = frame.at(s)
+    phi = curve.angle_at_arc_length(s)
+    assert np.max(np.linalg.norm(p - curve.points(phi), axis=1)) < 1e-10
+    assert np.max(np.linalg.norm(t - curve.tangent(phi), axis=1)) < 1e-8
+    assert np.max(np.linalg.norm(nrm - curve.normal(phi), axis=1)) < 1e-8
+    assert np.max(np.abs(kap - curve.curvature(phi))) < 1e-6
+
+
+@pytest.fixture(scope="module")
+def ellipse_pair():
+    pair = GearPair.from_driver(PitchCurve.ellipse(40.0, 0.2, 2), "external", 2)
+    return pair.sized(module=2.0)
+
+
+def test_ellipse_pair_against_boolean_reference(ellipse_pair):
+    pair, sizing = ellipse_pair
+    cutter = ShaperCutter(20, 2.0)
+    for curve, z in ((pair.driver, sizing.teeth[0]), (pair.driven, sizing.teeth[1])):
+        gear = generate(curve, cutter, z)
+        spaces = [0, z // 4 + 1, z // 2 - 1]  # across the lobe: flat and pointed ends
+        ref = boolean_reference(curve, cutter, z, 200, spaces=spaces, per_piece=200)
+        assert flank_deviation(gear, ref, spaces) < FLANK
+        assert gear.undercut == 0.0 and gear.tip_lands.min() > 0.2 * 2.0
+
+
+def test_internal_non_circular_pair_against_boolean_reference():
+    pair = GearPair.from_driver(PitchCurve.ellipse(60.0, 0.05, 4), "internal", 1)
+    pair, sizing = pair.sized(module=2.0)
+    cutter = ShaperCutter(16, 2.0)
+    ring = generate(pair.driver, cutter, sizing.teeth[0], internal=True)
+    assert isinstance(ring.polygon, shapely.Polygon) and len(ring.polygon.interiors) == 1
+    ref = boolean_reference(pair.driver, cutter, sizing.teeth[0], 200, internal=True, spaces=[0, 7], per_piece=200)
+    assert flank_deviation(ring, ref, [0, 7]) < FLANK
+    planet = generate(pair.driven, cutter, sizing.teeth[1])
+    ref = boolean_reference(pair.driven, cutter, sizing.teeth[1], 200, spaces=[0, 4], per_piece=200)
+    assert flank_deviation(planet, ref, [0, 4]) < FLANK
+
+
+@pytest.fixture(scope="module")
+def seed004_pair(parts_dir):
+    return runpy.run_path(str(parts_dir / "planetary_seed004.py"))["gear_pair"]()
+
+
+def test_seed004_pair_at_the_published_module_cannot_be_cut(seed004_pair):
+    pair, sizing = seed004_pair.sized(teeth=80)
+    with pytest.raises(GeometryError, match=r"rolling radius 17.05 mm .* smallest convex radius of curvature 3.003 mm"):
+        generate(pair.driver, ShaperCutter(12, sizing.module), sizing.teeth[0], internal=True)
+
+
+def test_seed004_pair_at_a_fine_module(seed004_pair):
+    """m = 0.406 mm (560/140 teeth): an 8-tooth cutter fits the 3 mm corners without secondary cutting."""
+    pair, sizing = seed004_pair.sized(teeth=560)
+    cutter = ShaperCutter(8, sizing.module, tip_fillet=0.1)
+    ring = generate(pair.driver, cutter, sizing.teeth[0], internal=True)
+    planet = generate(pair.driven, cutter, sizing.teeth[1])
+    assert ring.undercut == 0.0 and planet.undercut == 0.0
+    coarse, s2 = seed004_pair.sized(teeth=320)  # m = 0.71 mm: the same cutter cuts the ring twice
+    with pytest.raises(GeometryError, match="secondary cutting"):
+        generate(
+            coarse.driver, ShaperCutter(8, s2.module, tip_fillet=0.1), s2.teeth[0], internal=True, allow_undercut=True
+        )
+    for gear, curve in ((ring, pair.driver), (planet, pair.driven)):
+        corner = curve.max_curvature().angle  # the sharpest corner, where errors would show
+        worst = int(
+            np.argmin(
+                np.abs(
+                    np.angle(
+                        np.exp(1j * (np.array([np.arctan2(*sp.pitch_point[::-1]) for sp in gear.spaces]) - corner))
+                    )
+                )
+            )
+        )
+        spaces = [worst, (worst + gear.teeth // 2) % gear.teeth]
+        ref = boolean_reference(curve, cutter, gear.teeth, 200, internal=gear.internal, spaces=spaces, per_piece=120)
+        assert flank_deviation(gear, ref, spaces) < FLANK
+
+
+def test_generation_errors_name_the_limit():
+    m = 2.0
+    with pytest.raises(GeometryError, match=r"perimeter .* != teeth \* π \* m"):
+        generate(PitchCurve.circle(30.0), ShaperCutter(20, m), 31)
+    with pytest.raises(GeometryError, match=r"undercut at tooth space \d+: 4\d\.\d µm"):
+        generate(PitchCurve.circle(10.0), ShaperCutter(20, m), 10)
+    with pytest.raises(GeometryError, match="pointed tooth"):
+        generate(PitchCurve.circle(12.0), ShaperCutter(20, m, dedendum=2.0), 12, shift=0.9)
+    with pytest.raises(GeometryError, match="secondary cutting"):
+        generate(PitchCurve.circle(26.0), ShaperCutter(20, m), 26, internal=True)
+    with pytest.raises(GeometryError, match="concave radius of curvature"):
+        wavy = PitchCurve.from_fourier(40.0, (0.0, 0.0, 0.0, 3.5), (2.0,))
+        pair, s = GearPair.from_driver(wavy, "external", 1).sized(module=2.0)
+        generate(pair.driver, ShaperCutter(76, m), s.teeth[0])  # r_c = 76 mm > its 6x mm concave radius
+    with pytest.raises(SpecError, match="teeth"):
+        generate(PitchCurve.circle(5.0), ShaperCutter(20, m), 5)
+    with pytest.raises(SpecError, match="cutter teeth"):
+        ShaperCutter(4, m)
+    with pytest.raises(GeometryError, match="pointed"):
+        ShaperCutter(8, m, addendum=1.6)
