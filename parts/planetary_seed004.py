@@ -33,7 +33,8 @@ import math
 
 import numpy as np
 
-from transplanter.families import Family, PitchPairStudy, PlanetaryStudy
+from transplanter.cutter import ShaperCutter
+from transplanter.families import Family, PitchPairStudy, PlanetaryStudy, ToothedPairStudy
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 
@@ -46,6 +47,11 @@ SEEDLING_BOX = (165.0, 70.0)  # (Yx, Yy), mm
 PLANT_SPACING = 120.0  # mm, mid of the paper's 60-180 mm range
 PLANTING_DEPTH = 30.0  # mm, not published
 RING_TEETH = 80  # 20 on the planet; the module follows from the perimeter
+# The pair's 3.0 mm convex corners admit a cutter of pitch radius < 3.0 mm: at the paper's
+# module that is impossible, so the teeth are cut at m = 0.406 mm (560/140 teeth) by an
+# 8-tooth cutter, the coarsest pitch with no undercut and no secondary cutting.
+FINE_RING_TEETH = 560
+FINE_CUTTER_TEETH = 8
 PUBLISHED = (
     ("trajectory height", 245.0, "mm"),
     ("picking angle", 342.0, "deg"),
@@ -75,6 +81,11 @@ def train(r11: float | None = None, degree: int = 3) -> DifferentialTrain:
 VARIANTS = tuple((f"r11 = {r:g} mm", (r, 3)) for r in (94.0, 96.0, 98.0, 100.0)) + (("quintic spline", (None, 5)),)
 
 
+def cutter_for(pair: GearPair, ring_teeth: int, cutter_teeth: int) -> ShaperCutter:
+    _, sizing = pair.sized(teeth=ring_teeth)
+    return ShaperCutter(cutter_teeth, sizing.module, tip_fillet=0.1)
+
+
 def family() -> Family:
     pair = gear_pair()
     return Family(
@@ -82,6 +93,16 @@ def family() -> Family:
         description="Seed 004 differential internal non-circular planetary train: ring/planet pair and trajectory",
         parts=(
             PitchPairStudy("ring_planet_pitch", pair, teeth=RING_TEETH),
+            ToothedPairStudy(
+                "ring_planet_teeth",
+                pair,
+                cutter_for(pair, FINE_RING_TEETH, FINE_CUTTER_TEETH),
+                teeth=FINE_RING_TEETH,
+                rejected=(
+                    ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, cutter_for(pair, RING_TEETH, 12)),
+                    ("m = 0.71 mm (320/80 teeth, 8-tooth cutter)", 320, cutter_for(pair, 320, 8)),
+                ),
+            ),
             PlanetaryStudy(
                 "transplanting_train",
                 DifferentialTrain(pair, ARM, CARRIER_START, planets=3),

@@ -157,3 +157,9 @@ def test_seed004_family_builds(parts_dir, tmp_path):
     pitch = manifest["parts"]["ring_planet_pitch"]["results"]
     assert pitch["driver"]["teeth"] == 80 and pitch["driven"]["teeth"] == 20
     assert (tmp_path / "planetary_seed004" / "transplanting_train.trajectory.png").stat().st_size > 10_000
+    teeth = manifest["parts"]["ring_planet_teeth"]["results"]
+    assert teeth["driver"]["teeth"] == 560 and teeth["driven"]["teeth"] == 140
+    assert teeth["driver"]["undercut_mm"] == 0.0 and teeth["driver"]["internal"]
+    rejected = teeth["rejected_alternatives"]
+    assert "cutter-curve interference" in rejected["paper module (80/20 teeth, 12-tooth cutter)"]
+    assert "undercut" in rejected["m = 0.71 mm (320/80 teeth, 8-tooth cutter)"]

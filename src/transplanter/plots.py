@@ -25,6 +25,7 @@ __all__ = [
     "shaking_figure",
     "pitch_pair_figure",
     "planetary_trajectory_figure",
+    "toothed_pair_figure",
 ]
 
 _METADATA = {
@@ -188,5 +189,40 @@ def planetary_trajectory_figure(train, metrics, title: str, seedling_box=None, c
         ax.set_ylabel("y (mm)")
         ax.set_title(f"{title}: {sub}", fontsize=9)
     ax1.legend(fontsize=6, loc="best")
+    fig.tight_layout()
+    return fig
+
+
+def toothed_pair_figure(
+    driver_polygon, driven_polygon, centre_distance: float, external: bool, contact_x: float, title: str
+):
+    """The two generated gears in their start position (left) and a zoom on the start contact (right)."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5.5))
+
+    def rings(poly, place):
+        for ring in (poly.exterior, *poly.interiors):
+            xy = np.asarray(ring.coords)
+            yield place(xy)
+
+    def driven_place(xy):
+        if external:  # the driven body frame is turned by π at the start
+            return np.stack([centre_distance - xy[:, 0], -xy[:, 1]], axis=1)
+        return xy + [centre_distance, 0.0]
+
+    for ax in (ax1, ax2):
+        for xy in rings(driver_polygon, lambda v: v):
+            ax.plot(xy[:, 0], xy[:, 1], "C0-", lw=0.6)
+        for xy in rings(driven_polygon, driven_place):
+            ax.plot(xy[:, 0], xy[:, 1], "C1-", lw=0.6)
+        ax.set_aspect("equal")
+        ax.grid(True, lw=0.3)
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("y (mm)")
+    span = 0.06 * abs(contact_x) + 3.0
+    x0 = contact_x
+    ax2.set_xlim(x0 - span, x0 + span)
+    ax2.set_ylim(-span, span)
+    ax1.set_title(f"{title}: generated gears at the start", fontsize=9)
+    ax2.set_title("start contact", fontsize=9)
     fig.tight_layout()
     return fig

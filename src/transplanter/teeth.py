@@ -46,7 +46,16 @@ from transplanter.errors import GeometryError, SpecError
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
 
-__all__ = ["ArcFrame", "ToothSpace", "ToothedGear", "generate", "boolean_reference", "flank_deviation"]
+__all__ = [
+    "ArcFrame",
+    "ToothSpace",
+    "ToothedGear",
+    "generate",
+    "generate_pair",
+    "boolean_reference",
+    "flank_deviation",
+    "secondary_cut",
+]
 
 #: Largest chord error of the generated outline against the exact envelope, mm (0.25 µm:
 #: a quarter of the 1 µm flank budget, the rest is margin for the DXF arc fit).
@@ -281,6 +290,7 @@ def generate(
     allow_undercut: bool = False,
     min_land: float = 0.2,
     tolerance: float = CHORD_TOLERANCE,
+    phase: float = 0.0,
 ) -> ToothedGear:
     """Generate the teeth of a gear with pitch curve ``curve`` by the shaper ``cutter``.
 
@@ -305,6 +315,9 @@ def generate(
         Smallest tip land, in modules, before a tooth counts as pointed.
     tolerance : float
         Chord tolerance of the outline against the exact envelope, mm.
+    phase : float
+        Tooth-space centres at ``(j + phase) π m`` of arc length: 0 puts a space, 0.5 a tooth
+        at the curve's start (a mating gear takes the other).
     """
     m = cutter.module
     if not isinstance(teeth, int | np.integer) or teeth < 6:
@@ -327,7 +340,9 @@ def generate(
     frame = ArcFrame.from_curve(curve)
     _check_cutter_fits(frame, cutter, internal, shift)
     pitch = frame.length / teeth
-    s_centres = pitch * np.arange(teeth)
+    if not math.isfinite(phase):
+        raise SpecError.out_of_range("phase", phase, "finite")
+    s_centres = pitch * (np.arange(teeth) + phase)
     tau, y = _profile_grid(frame, cutter, s_centres, side, shift, tolerance)
     spaces_poly = _space_polygons(y, s_centres, frame, side, m)
     cut = shapely.union_all(spaces_poly)
@@ -352,15 +367,15 @@ def generate(
         )
     spaces = _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tolerance)
     if internal:
-        depth, where = secondary_cut(body, frame, cutter, teeth, shift, side)
+        depth, where = secondary_cut(body, frame, cutter, teeth, shift, side, phase=phase)
         if depth > 4 * tolerance:
-            tooth = int(round(where / pitch)) % teeth
+            tooth = int(round(where / pitch - phase)) % teeth
             raise GeometryError(
                 f"secondary cutting near tooth space {tooth}: the cutter's other teeth reach {depth * 1000:.1f} µm "
                 f"into the ring while leaving the mesh (limit {4 * tolerance * 1000:.1f} µm); use a cutter with "
                 "fewer teeth or a larger ring"
             )
-    lands = _tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m)
+    lands = _tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
     thin = np.flatnonzero(lands < min_land * m)
     if thin.size:
         t = int(thin[0])
@@ -372,7 +387,7 @@ def generate(
 
 
 def secondary_cut(
-    body, frame: ArcFrame, cutter: ShaperCutter, teeth: int, shift: float, side: float, per_pitch: int = 3
+    body, frame: ArcFrame, cutter: ShaperCutter, teeth: int, shift: float, side: float, per_pitch: int = 3, phase=0.0
 ):
     """Deepest reach (mm) of any cutter position into the finished ``body``, and its roll (mm).
 
@@ -383,7 +398,7 @@ def secondary_cut(
     """
     pitch = frame.length / teeth
     s = pitch * np.arange(teeth * per_pitch) / per_pitch
-    j = np.round(s / pitch) * pitch
+    j = (np.round(s / pitch - phase) + phase) * pitch
     c, psi, _, _, _ = _placement(frame, cutter, s, j, side, shift)
     outline = cutter.outline(per_piece=6)
     cs, sn = np.cos(psi)[:, None], np.sin(psi)[:, None]
@@ -423,6 +438,16 @@ def _drop_specks(body, module: float):
     return keep[0] if len(keep) == 1 else shapely.MultiPolygon(keep)
 
 
+def generate_pair(pair, cutter: ShaperCutter, teeth: tuple[int, int], **kwargs) -> tuple[ToothedGear, ToothedGear]:
+    """Both gears of a sized ``pitch.GearPair``: the driver with a space, the driven with a tooth at
+    the start contact, so they mesh in the pair's start position. ``kwargs`` go to :func:`generate`.
+    """
+    ring = getattr(pair, "ring", None)
+    driver = generate(pair.driver, cutter, teeth[0], internal=ring == "driver", phase=0.0, **kwargs)
+    driven = generate(pair.driven, cutter, teeth[1], internal=ring == "driven", phase=0.5, **kwargs)
+    return driver, driven
+
+
 def _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tolerance):
     """Per-space metadata; undercut = involute envelope points inside the blank but cut away."""
     flank = ((tau >= 1) & (tau <= 2)) | ((tau >= 5) & (tau <= 6))
@@ -453,7 +478,7 @@ def _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tol
     return out
 
 
-def _tip_lands(tip, cut, frame, s_centres, side, offset):
+def _tip_lands(tip, cut, frame, s_centres, side, offset, phase):
     """Length of tip curve left on each tooth, mm (tooth t between spaces t and t+1)."""
     left = shapely.difference(tip.exterior if isinstance(tip, shapely.Polygon) else tip.boundary, cut)
     pieces = getattr(left, "geoms", [left])
@@ -466,7 +491,7 @@ def _tip_lands(tip, cut, frame, s_centres, side, offset):
             continue
         mid = np.asarray(piece.interpolate(0.5, normalized=True).coords)[0]
         k = int(np.argmin(np.linalg.norm(probe - mid, axis=1)))
-        t = int(math.floor(probe_s[k] / pitch)) % len(s_centres)
+        t = int(math.floor(probe_s[k] / pitch - phase)) % len(s_centres)
         lands[t] += piece.length
     return lands
 
