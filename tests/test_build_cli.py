@@ -150,3 +150,26 @@ def test_analyse_prints_planetary_metrics_beside_the_paper(parts_dir, capsys):
     assert "published" in out
     line = next(ln for ln in out.splitlines() if ln.strip().startswith("picking angle"))
     assert "337.30" in line and "342.00" in line
+
+
+def test_optimise_command_is_reproducible(tmp_path, capsys):
+    script = tmp_path / "bowl.py"
+    script.write_text(
+        "from transplanter.optimise import Problem\n"
+        "def problem():\n"
+        "    cost = lambda v: (v[0] - 0.5) ** 2 + (v[1] - 1) ** 2\n"
+        "    return Problem('bowl', (('x', -2.0, 2.0), ('y', -1.0, 3.0)), cost)\n"
+    )
+    outs = []
+    for _ in range(2):
+        assert cli.main(["optimise", str(script), "--seed", "4", "--maxiter", "30", "--popsize", "8"]) == 0
+        captured = capsys.readouterr()
+        assert "generation    1/30" in captured.err
+        outs.append(json.loads(captured.out))
+    assert outs[0] == outs[1]
+    assert outs[0]["parameters"]["x"] == pytest.approx(0.5, abs=1e-3)
+
+
+def test_optimise_needs_a_problem(parts_dir, capsys):
+    assert cli.main(["optimise", str(parts_dir / "fourbar_seed001.py")]) == 2
+    assert "must define problem()" in capsys.readouterr().err

@@ -4,7 +4,9 @@
 ``./exports/<family>/``; ``transplanter build parts/x.py -o DIR --jobs N`` builds the named
 scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the four-bar arms
 (the seed-000 Table 2 layout) and planetary trains (beside published values) in a script and,
-with ``--plots DIR``, writes the arms' plots.
+with ``--plots DIR``, writes the arms' plots. ``transplanter optimise parts/x.py --seed S``
+runs differential evolution on the script's ``problem()`` with a progress line per generation
+and prints the best parameters as JSON.
 Exit status: 0 on success, 1 if any part failed, 2 on bad input (message on stderr).
 """
 
@@ -88,6 +90,39 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
     return 0
 
 
+def _cmd_optimise(args: argparse.Namespace) -> int:
+    import json
+    import runpy
+
+    from transplanter.errors import PartScriptError
+    from transplanter.optimise import Problem, optimise
+
+    path = Path(args.script)
+    if not path.is_file():
+        raise PartScriptError(f"part script {path} does not exist")
+    fn = runpy.run_path(str(path), run_name="transplanter_part_script").get("problem")
+    if not callable(fn):
+        raise PartScriptError(f"{path}: an optimisable part script must define problem() returning an optimise.Problem")
+    problem = fn()
+    if not isinstance(problem, Problem):
+        raise PartScriptError(f"{path}: problem() returned {type(problem).__name__}, expected optimise.Problem")
+
+    def progress(gen: int, best: float, _x) -> None:
+        print(f"generation {gen:4d}/{args.maxiter}: best cost {best:.6g}", file=sys.stderr, flush=True)
+
+    res = optimise(problem, seed=args.seed, maxiter=args.maxiter, popsize=args.popsize, progress=progress)
+    out = {
+        "problem": problem.name,
+        "seed": args.seed,
+        "cost": res.fun,
+        "generations": res.generations,
+        "evaluations": res.evaluations,
+        "parameters": {k: round(v, 6) for k, v in res.named(problem).items()},
+    }
+    print(json.dumps(out, indent=2))
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="transplanter", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -99,12 +134,21 @@ def main(argv: list[str] | None = None) -> int:
     a = sub.add_parser("analyse", aliases=["analyze"], help="print the planting metrics of a part script's arms")
     a.add_argument("script", help="part script")
     a.add_argument("--plots", metavar="DIR", help="also write path and kinematics plots to DIR")
+    o = sub.add_parser("optimise", aliases=["optimize"], help="optimise the parameters of a part script's problem()")
+    o.add_argument("script", help="part script defining problem()")
+    o.add_argument("--seed", type=int, default=0, help="random seed (runs are reproducible)")
+    o.add_argument("--maxiter", type=int, default=50, help="generations of differential evolution")
+    o.add_argument("--popsize", type=int, default=15, help="population size per variable")
     args = parser.parse_args(argv)
     try:
         if args.command == "build":
             if args.jobs < 1:
                 parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
             return _cmd_build(args)
+        if args.command in ("optimise", "optimize"):
+            if args.maxiter < 1 or args.popsize < 1:
+                parser.error("--maxiter and --popsize must be >= 1")
+            return _cmd_optimise(args)
         return _cmd_analyse(args)
     except TransplanterError as exc:
         print(f"transplanter: error: {exc}", file=sys.stderr)

@@ -26,6 +26,8 @@ __all__ = [
     "pitch_pair_figure",
     "planetary_trajectory_figure",
     "toothed_pair_figure",
+    "synthesis_figure",
+    "cam_figure",
 ]
 
 _METADATA = {
@@ -224,5 +226,70 @@ def toothed_pair_figure(
     ax2.set_ylim(-span, span)
     ax1.set_title(f"{title}: generated gears at the start", fontsize=9)
     ax2.set_title("start contact", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def synthesis_figure(chain, sample, feasible, title: str) -> plt.Figure:
+    """Circle- and centre-point curves with the feasible part (left); the mechanism's paths (right)."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5.5))
+    ax1.plot(sample.circle[:, 0], sample.circle[:, 1], ".", color="C0", ms=0.5, label="circle points")
+    ax1.plot(sample.centre[:, 0], sample.centre[:, 1], ".", color="C1", ms=0.5, label="centre points")
+    ax1.plot(sample.circle[feasible, 0], sample.circle[feasible, 1], ".", color="C2", ms=1.5, label="feasible")
+    ax1.plot(sample.centre[feasible, 0], sample.centre[feasible, 1], ".", color="C3", ms=1.5)
+    ax1.plot(*chain.circle, "k^", label="chosen circle point")
+    ax1.plot(*chain.centre, "ks", label="its centre point")
+    ax1.set_xlim(-150, 150)
+    ax1.set_ylim(-150, 150)
+    tau = np.linspace(0.0, 2 * math.pi, 1441)
+    st = chain.state(tau)
+    ax2.plot(st.tip[:, 0], st.tip[:, 1], "C0-", label="arm tip")
+    ax2.plot(st.q[:, 0], st.q[:, 1], "C1-", lw=0.8, label="hinge Q")
+    ps = chain.state(chain.pose_tau)
+    for k in range(4):
+        ax2.plot(
+            [chain.centre[0], ps.circle[k, 0], ps.q[k, 0], ps.tip[k, 0]],
+            [chain.centre[1], ps.circle[k, 1], ps.q[k, 1], ps.tip[k, 1]],
+            "-o",
+            ms=3,
+            lw=0.8,
+            color=f"C{k + 2}",
+        )
+        ax2.annotate(str(k + 1), ps.q[k], fontsize=8)
+    for ax, sub in ((ax1, "Burmester curves"), (ax2, "open-chain 3R mechanism through the four poses")):
+        ax.set_aspect("equal")
+        ax.grid(True, lw=0.3)
+        ax.set_xlabel("x (mm)")
+        ax.set_ylabel("y (mm)")
+        ax.set_title(f"{title}: {sub}", fontsize=9)
+        ax.legend(fontsize=6, loc="best", markerscale=4)
+    fig.tight_layout()
+    return fig
+
+
+def cam_figure(cam, title: str) -> plt.Figure:
+    """Cam profile and pitch curve (left); pressure angle and follower motion over a turn (right)."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    p = np.vstack([cam.profile, cam.profile[:1]])
+    ax1.plot(p[:, 0], p[:, 1], "k-", lw=1.2, label="working profile")
+    if cam.pitch is not None:
+        q = np.vstack([cam.pitch, cam.pitch[:1]])
+        ax1.plot(q[:, 0], q[:, 1], "C0--", lw=0.8, label="pitch curve")
+    ax1.plot(0, 0, "k+")
+    ax1.set_aspect("equal")
+    ax1.grid(True, lw=0.3)
+    ax1.legend(fontsize=7)
+    ax1.set_title(f"{title}: profile (cam frame)", fontsize=9)
+    deg = np.degrees(cam.theta)
+    ax2.plot(deg, np.degrees(cam.pressure_angle), "C3-", label="pressure angle (deg)")
+    ax3 = ax2.twinx()
+    ax3.plot(deg, np.degrees(cam.follower_position(cam.theta)), "C0-", lw=0.8, label="follower swing (deg)")
+    ax2.set_xlabel("cam angle (deg)")
+    ax2.set_ylabel("pressure angle (deg)")
+    ax3.set_ylabel("follower swing (deg)")
+    ax2.set_xlim(0, 360)
+    ax2.set_xticks(range(0, 361, 45))
+    ax2.grid(True, lw=0.3)
+    ax2.set_title(f"max pressure angle {math.degrees(cam.max_pressure_angle):.2f} deg", fontsize=9)
     fig.tight_layout()
     return fig

@@ -1,0 +1,124 @@
+"""Seed 002: Burmester four-pose synthesis, the open-chain 3R model, ratio distribution."""
+
+import math
+
+import numpy as np
+import pytest
+
+from transplanter.errors import GeometryError, SpecError
+from transplanter.linkage.burmester import FourPoses, Pose
+from transplanter.linkage.open_chain import OpenChain3R, seed002_poses
+
+
+@pytest.fixture(scope="module")
+def poses():
+    return seed002_poses()[0]
+
+
+def test_section_3_3_mechanism_3(poses):
+    """x = 70: circle point y = 33.4092, centre point (3.9926, 0.4983) (paper, 4 decimals)."""
+    y = min(poses.circle_points_at(70.0), key=lambda v: abs(v - 33.4092))
+    assert y == pytest.approx(33.4092, abs=5e-5)
+    cx, cy = poses.centre_point((70.0, y))
+    assert cx == pytest.approx(3.9926, abs=5e-5)
+    assert cy == pytest.approx(0.4983, abs=1.5e-4)  # 0.49839 here; the paper truncates
+
+
+@pytest.mark.parametrize(
+    ("x", "y", "centre", "k1", "k2"),
+    [
+        (34.0, 59.42, (0.01801, 31.6135), 2.1392, 1.3307),  # mechanism ①
+        (30.0, 14.7183, (-19.5744, -14.7805), 2.0447, 1.0582),  # mechanism ②
+    ],
+)
+def test_mechanisms_1_and_2(poses, x, y, centre, k1, k2):
+    ys = poses.circle_points_at(x)
+    y_found = min(ys, key=lambda v: abs(v - y))
+    assert y_found == pytest.approx(y, abs=5e-3)
+    d = poses.dyad((x, y_found))
+    assert d.centre[0] == pytest.approx(centre[0], abs=2e-3)
+    assert d.centre[1] == pytest.approx(centre[1], abs=2e-3)
+    q1 = np.array([poses.poses[0].x, poses.poses[0].y])
+    l1 = d.crank_length
+    l2 = float(np.linalg.norm(q1 - np.array(d.circle)))
+    assert 125.0 / l2 == pytest.approx(k2, abs=2e-4)
+    # ① reproduces k1 (2.1393 vs 2.1392); ② gives 2.0477 against the printed 2.0447, a transposed digit
+    assert l2 / l1 == pytest.approx(k1, abs=4e-3)
+
+
+def test_circle_point_curve_is_the_eq9_cubic(poses):
+    c = poses.cubic_coefficients()
+    assert c[(3, 0)] == pytest.approx(c[(1, 2)], rel=1e-9)  # H1 x³ + H1 x y²
+    assert c[(0, 3)] == pytest.approx(c[(2, 1)], rel=1e-9)  # H2 y³ + H2 x² y
+    s = poses.sample((-60.0, 100.0), 0.05)
+    scale = max(abs(v) for v in c.values())
+    assert np.max(np.abs(poses.determinant(s.circle[:, 0], s.circle[:, 1]))) < 1e-9 * scale * 100**3
+    # §3.3: three circle points for x in [-34, 72], one outside
+    xs, counts = np.unique(np.round(s.circle[:, 0], 2), return_counts=True)
+    assert xs[counts == 3].min() == pytest.approx(-34, abs=0.5)
+    assert xs[counts == 3].max() == pytest.approx(72, abs=0.5)
+    # every sampled dyad guides the body through all four poses with a constant crank length
+    for k in range(0, len(s.circle), max(1, len(s.circle) // 50)):
+        a0, ac = s.centre[k], np.array([*s.circle[k], 1.0])
+        lengths = [np.linalg.norm((poses.displacement(i) @ ac)[:2] - a0) for i in range(1, 5)]
+        assert np.ptp(lengths) < 1e-6 * max(1.0, lengths[0])
+
+
+def test_feasible_region_filters(poses):
+    s = poses.sample((-150.0, 150.0), 0.1)
+    m = FourPoses.feasible(s, centre_x=(-60, 25), circle_x=(30, 80), y_range=(-100, 100), link1=(70, 100))
+    assert m.any() and not m.all()
+    assert np.all(s.link1[m] >= 70) and np.all(s.centre[m, 0] <= 25)
+
+
+def test_bad_poses_are_rejected():
+    with pytest.raises(SpecError, match="exactly 4"):
+        FourPoses((Pose(0, 0, 0),) * 3)
+    with pytest.raises(SpecError, match="repeats pose 1"):
+        FourPoses((Pose(1, 2, 0.3), Pose(1, 2, 0.3), Pose(5, 1, 1.0), Pose(-3, 2, 2.0)))
+    with pytest.raises(SpecError, match="pose"):
+        Pose(float("nan"), 0, 0)
+
+
+@pytest.fixture(scope="module")
+def chain3(poses):
+    _, att = seed002_poses()
+    y = min(poses.circle_points_at(70.0), key=lambda v: abs(v - 33.4092))
+    return OpenChain3R(poses, (70.0, y), 125.0, att)
+
+
+def test_open_chain_passes_the_poses(chain3):
+    assert chain3.pose_error() < 1e-9
+    st = chain3.state(chain3.pose_tau)
+    assert np.allclose(np.degrees(np.mod(st.arm, 2 * math.pi)), [171, 130, 154, 167], atol=1e-9)
+    l1, l2, l3 = chain3.link_lengths
+    assert (l1, l2, l3) == pytest.approx((73.757, 75.553, 125.0), abs=1e-3)  # paper: 73.6237, 75 (rounded), 125
+    # one cycle: link 1 turns once clockwise, the arm ends where it started (no net rotation)
+    s = chain3.state(np.array([0.0, 2 * math.pi]))
+    assert np.allclose(s.tip[0], s.tip[1], atol=1e-9)
+    assert s.arm[1] - s.arm[0] == pytest.approx(0.0, abs=1e-9)
+
+
+def test_ratio_distribution_closes_and_reproduces_the_arm(chain3):
+    dist = chain3.distribute((45.0, 45.0), exponent=0.5)
+    for pair in (dist.stage23, dist.stage35):
+        assert pair.closure_error < 1e-9
+        assert pair.lobes == (1, 1)
+    # the two stages in series turn gear 5 (the arm, relative to carrier 1) as the chain does
+    tau = np.linspace(0.0, 2 * math.pi, 181)
+    phi3 = dist.stage23.driven_rotation(tau)
+    phi5 = dist.stage35.driven_rotation(phi3)
+    rel = chain3.beta2(tau) + chain3.beta3(tau) - (chain3.beta2(0.0) + chain3.beta3(0.0))
+    assert np.max(np.abs(phi5 - rel)) < 1e-6  # spline fit of the sampled ratio: 1e-6 rad
+    best = chain3.distribute((45.0, 45.0), exponent=None)
+    assert best.p >= dist.p - 1e-9
+
+
+def test_chain_rejects_points_off_the_curve_and_reversing_motion(poses):
+    _, att = seed002_poses()
+    with pytest.raises(GeometryError, match="not on the circle-point curve"):
+        OpenChain3R(poses, (70.0, 40.0), 125.0, att)
+    y = min(poses.circle_points_at(70.0), key=lambda v: abs(v - 33.4092))
+    ch = OpenChain3R(poses, (70.0, y), 125.0, att, extra_link3=((5.95, 5.95 + 4.0),))
+    with pytest.raises(GeometryError, match="stops or reverses"):
+        ch.distribute()
