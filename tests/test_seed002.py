@@ -122,3 +122,31 @@ def test_chain_rejects_points_off_the_curve_and_reversing_motion(poses):
     ch = OpenChain3R(poses, (70.0, y), 125.0, att, extra_link3=((5.95, 5.95 + 4.0),))
     with pytest.raises(GeometryError, match="stops or reverses"):
         ch.distribute()
+
+
+def test_seed002_family_builds(parts_dir, tmp_path):
+    from transplanter.families import build_family, load_family
+
+    manifest = build_family(load_family(parts_dir / "potseedling_seed002.py"), tmp_path)
+    assert manifest["ok"], manifest
+    parts = manifest["parts"]
+    syn = parts["open_chain_3R"]["results"]
+    assert syn["pose_error_mm"] < 1e-9 and syn["feasible_samples"] > 0
+    assert syn["link2_swing_deg"] >= 83.9  # the poses alone span 83.9 deg
+    for stage in ("stage_2_3", "stage_3_5"):
+        res = parts[stage]["results"]
+        assert res["convexity_index_p"] > 0.6  # both stages convex (seed 002 eq 23)
+        assert res["driver"]["convex"] and res["driven"]["convex"]
+    cam = parts["swing_cam"]["results"]
+    assert cam["max_pressure_angle_deg"] < 46.0
+
+
+def test_seed002_problem_scores_the_stored_optimum(parts_dir):
+    import runpy
+
+    ns = runpy.run_path(str(parts_dir / "potseedling_seed002.py"))
+    problem = ns["problem"]()
+    best = np.array([*ns["OPTIMUM"][0], *ns["OPTIMUM"][1], *ns["OPTIMUM"][2]])
+    start = np.array(ns["START"])
+    assert problem(best) < problem(start) - 1.0  # the optimum beats the plain start by > 1 deg
+    assert problem(best) == pytest.approx(45.9, abs=0.1)

@@ -31,12 +31,14 @@ __all__ = ["Problem", "OptimisationResult", "optimise"]
 
 @dataclass(frozen=True)
 class Problem:
-    """Variables ``(name, low, high)`` and a cost function of the parameter vector."""
+    """Variables ``(name, low, high)``, a cost function of the parameter vector, and an optional
+    starting point ``x0`` that joins the initial population (so a known design is never lost)."""
 
     name: str
     variables: tuple[tuple[str, float, float], ...]
     cost: Callable[[np.ndarray], float]
     infeasible: float = 1e6
+    x0: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         if not self.variables:
@@ -96,7 +98,7 @@ def optimise(
         tol=tol,
         polish=False,
         callback=callback,
-        x0=x0,
+        x0=x0 if x0 is not None else (np.asarray(problem.x0) if problem.x0 is not None else None),
         updating="immediate",
     )
     return OptimisationResult(

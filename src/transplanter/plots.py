@@ -233,8 +233,8 @@ def toothed_pair_figure(
 def synthesis_figure(chain, sample, feasible, title: str) -> plt.Figure:
     """Circle- and centre-point curves with the feasible part (left); the mechanism's paths (right)."""
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5.5))
-    ax1.plot(sample.circle[:, 0], sample.circle[:, 1], ".", color="C0", ms=0.5, label="circle points")
-    ax1.plot(sample.centre[:, 0], sample.centre[:, 1], ".", color="C1", ms=0.5, label="centre points")
+    ax1.plot(sample.circle[:, 0], sample.circle[:, 1], ".", color="C0", ms=1, label="circle points")
+    ax1.plot(sample.centre[:, 0], sample.centre[:, 1], ".", color="C1", ms=1, label="centre points")
     ax1.plot(sample.circle[feasible, 0], sample.circle[feasible, 1], ".", color="C2", ms=1.5, label="feasible")
     ax1.plot(sample.centre[feasible, 0], sample.centre[feasible, 1], ".", color="C3", ms=1.5)
     ax1.plot(*chain.circle, "k^", label="chosen circle point")
@@ -262,7 +262,7 @@ def synthesis_figure(chain, sample, feasible, title: str) -> plt.Figure:
         ax.set_xlabel("x (mm)")
         ax.set_ylabel("y (mm)")
         ax.set_title(f"{title}: {sub}", fontsize=9)
-        ax.legend(fontsize=6, loc="best", markerscale=4)
+        ax.legend(fontsize=6, loc="best")
     fig.tight_layout()
     return fig
 
