@@ -32,6 +32,7 @@ def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir):
         "fourbar_seed001",
         "fourbar_seed003",
         "planetary_seed004",
+        "potseedling_seed002",
     }
     manifest = json.loads((a / "fourbar_seed000" / "manifest.json").read_text())
     assert manifest["ok"] is True
