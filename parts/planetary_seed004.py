@@ -34,9 +34,10 @@ import math
 import numpy as np
 
 from transplanter.cutter import ShaperCutter
-from transplanter.families import Family, PitchPairStudy, PlanetaryStudy, ToothedPairStudy
+from transplanter.families import Family, Making, PitchPairStudy, PlanetaryStudy, ToothedPairStudy
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
+from transplanter.solids import Features
 
 LOBES = 4  # n
 CARRIER_ANGLES_DEG = (0, 30, 60, 90, 120, 150, 180, 210, 240, 270, 300)
@@ -52,6 +53,11 @@ RING_TEETH = 80  # 20 on the planet; the module follows from the perimeter
 # 8-tooth cutter, the coarsest pitch with no undercut and no secondary cutting.
 FINE_RING_TEETH = 560
 FINE_CUTTER_TEETH = 8
+FACE_WIDTH = 12.0  # mm, not published
+# A 0.05 mm wire with 0.01 mm gap reaches the 0.04 mm root fillets of the fine teeth. The
+# planet's pitch curve passes 3.84 mm from its axis, so its shaft is 5 mm without a keyway.
+RING_MAKING = Making(width=FACE_WIDTH, wire=(0.05, 0.01))
+PLANET_MAKING = Making(width=FACE_WIDTH, features=Features(bore=5.0, keyway=False), wire=(0.05, 0.01))
 PUBLISHED = (
     ("trajectory height", 245.0, "mm"),
     ("picking angle", 342.0, "deg"),
@@ -98,6 +104,7 @@ def family() -> Family:
                 pair,
                 cutter_for(pair, FINE_RING_TEETH, FINE_CUTTER_TEETH),
                 teeth=FINE_RING_TEETH,
+                making=(RING_MAKING, PLANET_MAKING),
                 rejected=(
                     ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, cutter_for(pair, RING_TEETH, 12)),
                     ("m = 0.71 mm (320/80 teeth, 8-tooth cutter)", 320, cutter_for(pair, 320, 8)),

@@ -22,9 +22,11 @@ import math
 import numpy as np
 
 from transplanter.cams import OscillatingRollerFollower
-from transplanter.families import CamStudy, Family, PitchPairStudy, SynthesisStudy
+from transplanter.cutter import ShaperCutter
+from transplanter.families import CamStudy, Family, Making, PitchPairStudy, SynthesisStudy, ToothedPairStudy
 from transplanter.linkage.open_chain import OpenChain3R, seed002_poses
 from transplanter.optimise import Problem
+from transplanter.solids import Features
 
 CIRCLE_X = 70.0  # mechanism ③
 ARM_LENGTH = 125.0
@@ -117,6 +119,16 @@ def problem() -> Problem:
     return Problem("seed002 swing cam and gear stages", variables, cost, infeasible=2000.0, x0=START)
 
 
+MODULE = 1.5
+GEAR_MAKING = Making(width=10.0, features=Features(bore=12.0))
+
+
+def _toothed(pair):
+    """The stage sized to MODULE, cut by a 12-tooth shaper cutter."""
+    sized, sizing = pair.sized(module=MODULE)
+    return sized, ShaperCutter(12, MODULE), sizing.teeth[0]
+
+
 def family() -> Family:
     ch = chain(OPTIMUM[0], OPTIMUM[1])
     dist = ch.distribute(CENTRE_DISTANCES, exponent=None)
@@ -125,8 +137,16 @@ def family() -> Family:
         description="Seed 002 pot-seedling mechanism: four-pose synthesis, non-circular gear stages and swing cam",
         parts=(
             SynthesisStudy("open_chain_3R", ch, boxes=FEASIBLE_BOXES),
-            PitchPairStudy("stage_2_3", dist.stage23, module=1.5),
-            PitchPairStudy("stage_3_5", dist.stage35, module=1.5),
-            CamStudy("swing_cam", swing(ch), follower(*OPTIMUM[2]), max_pressure_angle_deg=CAM_PRESSURE_LIMIT_DEG),
+            PitchPairStudy("stage_2_3", dist.stage23, module=MODULE),
+            PitchPairStudy("stage_3_5", dist.stage35, module=MODULE),
+            ToothedPairStudy("gears_2_3", *_toothed(dist.stage23), making=(GEAR_MAKING, GEAR_MAKING)),
+            ToothedPairStudy("gears_3_5", *_toothed(dist.stage35), making=(GEAR_MAKING, GEAR_MAKING)),
+            CamStudy(
+                "swing_cam",
+                swing(ch),
+                follower(*OPTIMUM[2]),
+                max_pressure_angle_deg=CAM_PRESSURE_LIMIT_DEG,
+                making=Making(width=12.0, features=Features(bore=30.0)),
+            ),
         ),
     )

@@ -11,6 +11,7 @@ from transplanter import cli
 from transplanter.errors import ExportError, PartScriptError
 from transplanter.export import atomic_write
 from transplanter.families import build_family, discover, load_family
+from transplanter.testing import admesh_available, assert_admesh_clean
 
 
 def _tree_hashes(root: Path) -> dict[str, str]:
@@ -27,6 +28,11 @@ def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir):
     assert cli.main(["build", "--parts", str(parts_dir), "-o", str(b)]) == 0
     ha, hb = _tree_hashes(a), _tree_hashes(b)
     assert ha == hb
+    stls = sorted(a.rglob("*.stl"))
+    assert len(stls) >= 7  # seed-004 ring and planet, seed-002 four gears and the cam
+    if admesh_available():
+        for path in stls:
+            assert_admesh_clean(path)
     assert {Path(k).parts[0] for k in ha} == {
         "fourbar_seed000",
         "fourbar_seed001",

@@ -44,12 +44,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+import shapely
 
-from transplanter import plots
+from transplanter import dxf, plots, solids, stl
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.cams import disc_cam
 from transplanter.cutter import ShaperCutter
-from transplanter.errors import PartScriptError, SpecError, TransplanterError
+from transplanter.errors import GeometryError, PartScriptError, SpecError, TransplanterError
 from transplanter.export import atomic_write, csv_bytes, json_bytes
 from transplanter.linkage import dynamics as dyn
 from transplanter.linkage.fourbar import FourBar, Link
@@ -67,6 +68,7 @@ __all__ = [
     "ToothedPairStudy",
     "SynthesisStudy",
     "CamStudy",
+    "Making",
     "Family",
     "load_family",
     "discover",
@@ -357,6 +359,65 @@ class PlanetaryStudy:
 
 
 @dataclass(frozen=True)
+class Making:
+    """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions."""
+
+    width: float
+    features: solids.Features = field(default_factory=solids.Features)
+    wire: tuple[float, float] = (0.25, 0.02)
+    dxf_versions: tuple[str, ...] = ("R2000",)
+
+
+def _manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], locate) -> tuple[dict, dict]:
+    """Section, solid, DXF and STL of one prismatic part, with their checks.
+
+    ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12").
+    """
+    section = solids.part_section(blank, cut, making.features)
+    wire_r = making.wire[0] / 2 + making.wire[1]
+    bad = dxf.wire_violations(section, wire_r)
+    if not bad.is_empty:
+        worst = max(bad.geoms, key=lambda g: g.area)
+        where = locate(worst.centroid.coords[0])
+        raise GeometryError(
+            f"{stem}: an inside corner at {where} is tighter than the wire radius {wire_r:.4g} mm "
+            f"(wire {making.wire[0]:g} mm + gap {making.wire[1]:g} mm; {len(bad.geoms)} places, "
+            f"{worst.area:.3g} mm² uncut here); use a finer wire or a larger cutter tip fillet"
+        )
+    solid = solids.part_solid(blank, cut, making.features, making.width)
+    expected = section.area * making.width
+    files: dict[str, bytes] = {}
+    results: dict = {
+        "section_area_mm2": _r(section.area, 6),
+        "solid_volume_mm3": _r(solid.volume(), 6),
+        "volume_rel_error": float(f"{abs(solid.volume() / expected - 1):.3e}"),
+        "wire_radius_mm": wire_r,
+    }
+    data = stl.stl_bytes(solid)
+    rep = stl.mesh_report(data)
+    results["stl"] = {
+        "triangles": rep.triangles,
+        "watertight": rep.watertight,
+        "winding_consistent": rep.winding_consistent,
+        "volume_rel_error": float(f"{abs(rep.volume / expected - 1):.3e}"),
+    }
+    if not (rep.watertight and rep.winding_consistent and abs(rep.volume / expected - 1) < 1e-6):
+        raise GeometryError(f"{stem}: the STL fails its checks {results['stl']}")
+    files[f"{stem}.stl"] = data
+    rings = [np.asarray(section.exterior.coords), *(np.asarray(r.coords) for r in section.interiors)]
+    for version in making.dxf_versions:
+        data = dxf.dxf_bytes(dxf.DxfPart(stem, section, notes), version)
+        back = dxf.read_contours(data)
+        dev = max(min(dxf.contour_deviation(src, rb) for rb in back if abs(len(rb)) > 2) for src in rings)
+        results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": float(f"{dev:.3e}")}
+        if dev > 1e-3:
+            raise GeometryError(f"{stem}: the DXF re-reads {dev * 1000:.3f} µm from the source (limit 1 µm)")
+        suffix = "" if version == "R2000" else f".{version}"
+        files[f"{stem}{suffix}.dxf"] = data
+    return results, files
+
+
+@dataclass(frozen=True)
 class ToothedPairStudy:
     """Teeth of both gears of ``pair`` cut by ``cutter``; ``teeth`` is the driver's tooth count.
 
@@ -370,6 +431,7 @@ class ToothedPairStudy:
     teeth: int
     allow_undercut: bool = False
     rejected: tuple[tuple[str, int, ShaperCutter], ...] = ()
+    making: tuple[Making, Making] | None = None
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         pair, sizing = self.pair.sized(teeth=self.teeth)
@@ -405,6 +467,19 @@ class ToothedPairStudy:
             }
             rows = [[f"{x:.9f}", f"{y:.9f}"] for x, y in gear.toothed_contour]
             files[f"{self.name}.{role}.outline.csv"] = csv_bytes(["x_mm", "y_mm"], rows)
+            if self.making is not None:
+                making = self.making[0 if role == "driver" else 1]
+                notes = (f"{gear.teeth} teeth", f"module {gear.module:.6g} mm", f"face width {making.width:g} mm")
+                res, made = _manufacture(
+                    f"{self.name}.{role}",
+                    gear.blank,
+                    gear.cut,
+                    making,
+                    notes,
+                    lambda pt, g=gear: f"tooth space {g.nearest_space(pt)}",
+                )
+                results[role]["made"] = res
+                files.update(made)
         findings = {}
         for label, teeth, cutter in self.rejected:
             alt, alt_sizing = self.pair.sized(teeth=teeth)
@@ -510,6 +585,7 @@ class CamStudy:
     follower: object
     n: int = 3600
     max_pressure_angle_deg: float = 45.0
+    making: Making | None = None
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         cam = disc_cam(self.motion, self.follower, self.n, math.radians(self.max_pressure_angle_deg))
@@ -540,6 +616,22 @@ class CamStudy:
         }
         for fmt in ("png", "svg"):
             files[f"{self.name}.cam.{fmt}"] = plots.figure_bytes(plots.cam_figure(cam, self.name), fmt)
+        if self.making is not None:
+            blank = shapely.Polygon(cam.profile)
+            notes = (
+                f"max pressure angle {math.degrees(cam.max_pressure_angle):.2f} deg",
+                f"width {self.making.width:g} mm",
+            )
+            res, made = _manufacture(
+                f"{self.name}.cam",
+                blank,
+                shapely.Polygon(),
+                self.making,
+                notes,
+                lambda pt: f"cam angle {math.degrees(math.atan2(pt[1], pt[0])) % 360:.1f} deg",
+            )
+            results["made"] = res
+            files.update(made)
         return {"kind": "cam", "parameters": params, "results": results}, files
 
 

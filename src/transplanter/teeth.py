@@ -155,6 +155,10 @@ class ToothedGear:
     spaces : tuple of ToothSpace
     tip_lands : (teeth,) float
         Length of tip curve left on each tooth (tooth t lies between spaces t and t+1), mm.
+    blank, cut : shapely geometry
+        What the teeth were cut from (inside the tip curve; a ring's rim disc) and what was cut
+        away (the tooth spaces; a ring's tip region too): ``polygon = blank - cut``, up to
+        specks. Solids repeat the subtraction in 3D.
     """
 
     polygon: shapely.Polygon
@@ -165,6 +169,8 @@ class ToothedGear:
     cutter: ShaperCutter
     spaces: tuple[ToothSpace, ...]
     tip_lands: np.ndarray = field(repr=False)
+    blank: shapely.Geometry = field(repr=False, default=None)
+    cut: shapely.Geometry = field(repr=False, default=None)
 
     @property
     def toothed_contour(self) -> np.ndarray:
@@ -175,6 +181,11 @@ class ToothedGear:
     @property
     def undercut(self) -> float:
         return max((sp.undercut for sp in self.spaces), default=0.0)
+
+    def nearest_space(self, point) -> int:
+        """Index of the tooth space whose pitch point is nearest ``point`` (x, y)."""
+        pp = np.array([sp.pitch_point for sp in self.spaces])
+        return int(np.argmin(np.linalg.norm(pp - np.asarray(point, dtype=float), axis=1)))
 
 
 def _placement(frame: ArcFrame, cutter: ShaperCutter, s, s_centre, side: float, shift: float):
@@ -383,7 +394,8 @@ def generate(
             f"pointed tooth {t}: its tip land is {lands[t]:.4g} mm, below min_land = {min_land:g} m = "
             f"{min_land * m:.4g} mm ({thin.size} teeth affected); reduce the addendum or the profile shift"
         )
-    return ToothedGear(body, int(teeth), m, internal, float(shift), cutter, tuple(spaces), lands)
+    blank, removed = (disc, shapely.union(tip, cut)) if internal else (tip, cut)
+    return ToothedGear(body, int(teeth), m, internal, float(shift), cutter, tuple(spaces), lands, blank, removed)
 
 
 def secondary_cut(
