@@ -28,6 +28,9 @@ def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir):
     assert cli.main(["build", "--parts", str(parts_dir), "-o", str(b)]) == 0
     ha, hb = _tree_hashes(a), _tree_hashes(b)
     assert ha == hb
+    for fam in ("planetary_seed004", "potseedling_seed002"):
+        page = (a / fam / "report.html").read_text()
+        assert "<img src=" in page and ".dxf" in page
     stls = sorted(a.rglob("*.stl"))
     assert len(stls) >= 7  # seed-004 ring and planet, seed-002 four gears and the cam
     if admesh_available():

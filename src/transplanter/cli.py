@@ -22,11 +22,22 @@ from transplanter.errors import TransplanterError
 __all__ = ["main"]
 
 
-def _build_one(script: str, out: str) -> tuple[str, bool, list[str]]:
+def _build_one(script: str, out: str, verbose: bool = True) -> tuple[str, bool, list[str]]:
+    import time
+
     from transplanter.families import build_family, load_family
 
     fam = load_family(script)
-    manifest = build_family(fam, out)
+    start = time.perf_counter()
+    count = len(fam.parts)
+    done = [0]
+
+    def progress(label: str) -> None:  # a progress line per part, with the elapsed time
+        done[0] += 1
+        if verbose:
+            print(f"    part {done[0]}/{count} {label}  ({time.perf_counter() - start:.1f} s)", file=sys.stderr)
+
+    manifest = build_family(fam, out, progress)
     errors = [f"{fam.name}/{k}: {v['error']}" for k, v in manifest["parts"].items() if "error" in v]
     return fam.name, manifest["ok"], errors
 
@@ -42,7 +53,7 @@ def _cmd_build(args: argparse.Namespace) -> int:
     total = len(scripts)
     if args.jobs > 1 and total > 1:
         with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-            futures = [pool.submit(_build_one, str(s), args.output) for s in scripts]
+            futures = [pool.submit(_build_one, str(s), args.output, False) for s in scripts]
             results = []
             for i, f in enumerate(futures, 1):
                 results.append(f.result())

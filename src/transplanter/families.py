@@ -58,6 +58,7 @@ from transplanter.linkage.open_chain import OpenChain3R
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics
 from transplanter.pitch import GearPair, Mesh, Periodic
 from transplanter.planetary import DifferentialTrain
+from transplanter.report import family_report
 from transplanter.teeth import CHORD_TOLERANCE, generate_pair
 
 __all__ = [
@@ -368,6 +369,17 @@ class Making:
     dxf_versions: tuple[str, ...] = ("R2000",)
 
 
+def _matching(src: np.ndarray, contours: list[np.ndarray]) -> np.ndarray:
+    """The read-back contour that corresponds to ``src``: nearest perimeter plus centroid offset."""
+
+    def key(c):
+        per = float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1)))
+        return abs(per - src_len) + float(np.linalg.norm(c.mean(axis=0) - src.mean(axis=0)))
+
+    src_len = float(np.sum(np.linalg.norm(np.diff(src, axis=0), axis=1)))
+    return min(contours, key=key)
+
+
 def _manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], locate) -> tuple[dict, dict]:
     """Section, solid, DXF and STL of one prismatic part, with their checks.
 
@@ -408,7 +420,7 @@ def _manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], 
     for version in making.dxf_versions:
         data = dxf.dxf_bytes(dxf.DxfPart(stem, section, notes), version)
         back = dxf.read_contours(data)
-        dev = max(min(dxf.contour_deviation(src, rb) for rb in back if abs(len(rb)) > 2) for src in rings)
+        dev = max(dxf.contour_deviation(src, _matching(src, back)) for src in rings)
         results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": float(f"{dev:.3e}")}
         if dev > 1e-3:
             raise GeometryError(f"{stem}: the DXF re-reads {dev * 1000:.3f} µm from the source (limit 1 µm)")
@@ -734,5 +746,8 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
             atomic_write(root / fname, data)
         record["files"] = {fname: _sha256(data) for fname, data in sorted(files.items())}
         manifest["parts"][part.name] = record
+    report = family_report(manifest)
+    atomic_write(root / "report.html", report)
+    manifest["report"] = {"report.html": _sha256(report)}
     atomic_write(root / "manifest.json", json_bytes(manifest))
     return manifest
