@@ -51,11 +51,30 @@ def test_gear_dxf_reads_back_within_1um(ellipse_gears, version):
     for src in (np.asarray(section.exterior.coords), np.asarray(section.interiors[0].coords)):
         assert min(dxf.contour_deviation(src, b) for b in back) < 1e-3
     for b in back:
-        ring = shapely.LinearRing(b)
-        assert ring.is_simple  # no self-intersections
-        seg = np.linalg.norm(np.diff(b, axis=0), axis=1)
-        assert seg.min() > 0
+        assert shapely.LinearRing(b).is_simple  # no self-intersections
+    verts = dxf.fit_arcs(np.asarray(section.exterior.coords), 0.5e-3)
+    spacing = np.linalg.norm(np.roll(verts[:, :2], -1, axis=0) - verts[:, :2], axis=1)
+    assert spacing.min() >= 1e-3  # no segment shorter than 1 µm
     assert "START_HOLES" in text and "ANNOTATION" in text
+
+
+def test_wire_compensated_dxf(ellipse_gears):
+    gear = ellipse_gears[0]
+    section = solids.part_section(gear.blank, gear.cut, solids.Features(bore=16.0))
+    data = dxf.dxf_bytes(dxf.DxfPart("g", section, wire_offset=0.145))
+    back = sorted(dxf.read_contours(data), key=len)
+    outer, hole = shapely.Polygon(back[-1]), shapely.Polygon(back[0])
+    assert outer.area > shapely.Polygon(section.exterior).area  # outer contour moved out
+    assert hole.area < shapely.Polygon(section.interiors[0]).area  # the bore's path moved in
+
+
+def test_hub_adds_its_collar():
+    blank = shapely.Point(0, 0).buffer(40.0, 256)
+    f = solids.Features(bore=20.0)
+    plain = solids.part_solid(blank, shapely.Polygon(), f, 10.0)
+    hub = solids.part_solid(blank, shapely.Polygon(), f, 10.0, hub=(36.0, 8.0))
+    collar = solids.part_section(solids.circle_polygon(0, 0, 18.0), shapely.Polygon(), f).area * 8.0
+    assert hub.volume() - plain.volume() == pytest.approx(collar, rel=1e-6)
 
 
 def test_stl_is_watertight_with_the_section_volume(ellipse_gears, tmp_path):

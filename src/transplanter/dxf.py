@@ -207,6 +207,9 @@ class DxfPart:
     section: shapely.Polygon
     notes: tuple[str, ...] = ()
     start_hole: float = 1.0  # diameter, mm
+    #: wire-centre compensation (wire radius + spark gap, mm); None writes the nominal contour
+    #: and leaves the offset to the CAM
+    wire_offset: float | None = None
 
 
 def _rings(section: shapely.Polygon):
@@ -231,7 +234,10 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = 0.5e-3) 
         for name, colour in LAYERS.items():
             doc.layers.add(name, color=colour)
         msp = doc.modelspace()
-        for ring, inner in _rings(part.section):
+        section = part.section if part.wire_offset is None else wire_path(part.section, part.wire_offset)
+        if part.wire_offset is not None:
+            doc.layers.get("CUT").dxf.color = 5
+        for ring, inner in _rings(section):
             verts = fit_arcs(ring, tolerance)
             attribs = {"layer": "CUT"}
             if version == "R12":
@@ -242,9 +248,10 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = 0.5e-3) 
                 hole = shapely.Polygon(ring)
                 centre = shapely.maximum_inscribed_circle(hole).coords[0] if hole.area > 0 else ring[0]
                 msp.add_circle(centre, part.start_hole / 2, dxfattribs={"layer": "START_HOLES"})
-        minx, miny, maxx, maxy = part.section.bounds
+        minx, miny, maxx, maxy = section.bounds
         height = max(2.0, 0.02 * (maxy - miny))
-        for k, line in enumerate((f"{part.name} (mm)", *part.notes)):
+        label = f"{part.name} (mm)" + ("" if part.wire_offset is None else f", wire path offset {part.wire_offset:g}")
+        for k, line in enumerate((label, *part.notes)):
             msp.add_text(line, dxfattribs={"layer": "ANNOTATION", "height": height}).set_placement(
                 (minx, miny - (k + 2) * 1.6 * height)
             )
