@@ -176,27 +176,8 @@ def fit_arcs(points, tolerance: float = 0.5e-3, corner_deg: float = 20.0, min_se
 
 
 def arcs_to_points(verts: np.ndarray, max_sagitta: float = 1e-5) -> np.ndarray:
-    """Flatten closed bulge vertices back to points (for checks and plots)."""
-    out = []
-    n = len(verts)
-    for k in range(n):
-        p0, b = verts[k, :2], verts[k, 2]
-        p1 = verts[(k + 1) % n, :2]
-        if b == 0:
-            out.append(p0)
-            continue
-        theta = 4 * math.atan(b)
-        chord = math.hypot(*(p1 - p0))
-        r = chord / (2 * abs(math.sin(theta / 2)))
-        steps = max(1, int(math.ceil(abs(theta) / (2 * math.acos(max(-1.0, 1 - max_sagitta / r))))))
-        t0 = _rotate((p1 - p0) / chord, -theta / 2)
-        normal = np.array([-t0[1], t0[0]]) * math.copysign(1.0, theta)
-        centre = p0 + r * normal
-        a0 = math.atan2(p0[1] - centre[1], p0[0] - centre[0])
-        for s in range(steps):
-            a = a0 + theta * s / steps
-            out.append(centre + r * np.array([math.cos(a), math.sin(a)]))
-    return np.array(out)
+    """Flatten closed bulge vertices ``(n, 3)`` back to points (for checks and plots)."""
+    return _bulge_points(np.asarray(verts, dtype=float), max_sagitta)
 
 
 @dataclass(frozen=True)

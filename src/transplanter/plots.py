@@ -47,6 +47,16 @@ def figure_bytes(fig: plt.Figure, fmt: str) -> bytes:
     return buf.getvalue()
 
 
+def _plan_view(ax, title: str | None = None, unit: str = "mm") -> None:
+    """Equal-aspect x-y axes with a light grid, labelled in ``unit``."""
+    ax.set_aspect("equal")
+    ax.grid(True, lw=0.3)
+    ax.set_xlabel(f"x ({unit})")
+    ax.set_ylabel(f"y ({unit})")
+    if title is not None:
+        ax.set_title(title, fontsize=9)
+
+
 def coupler_curve_figure(arm: PlantingArm, metrics: PlantingMetrics | None = None, cycles: int = 3) -> plt.Figure:
     """Tip path relative to the frame (left) and to the ground over ``cycles`` turns (right), cm."""
     cyc = arm.cycle(720)
@@ -65,11 +75,7 @@ def coupler_curve_figure(arm: PlantingArm, metrics: PlantingMetrics | None = Non
         (ax1, "relative to the frame"),
         (ax2, f"relative to the ground, v = {arm.forward_speed / 1000:g} m/s"),
     ):
-        ax.set_aspect("equal")
-        ax.grid(True, lw=0.3)
-        ax.set_xlabel("x (cm)")
-        ax.set_ylabel("y (cm)")
-        ax.set_title(f"{arm.name}: tip path {title}", fontsize=9)
+        _plan_view(ax, f"{arm.name}: tip path {title}", "cm")
     ax1.legend(fontsize=7, loc="best")
     fig.tight_layout()
     return fig
@@ -137,12 +143,8 @@ def pitch_pair_figure(pair, title: str) -> plt.Figure:
     ax1.plot(p1[:, 0], p1[:, 1], "C0-", label=f"driver ({pair.driver.lobes} lobes)")
     ax1.plot(p2[:, 0], p2[:, 1], "C1-", label=f"driven ({pair.driven.lobes} lobes)")
     ax1.plot([0, a], [0, 0], "k+", ms=10)
-    ax1.set_aspect("equal")
-    ax1.grid(True, lw=0.3)
+    _plan_view(ax1, f"{title}: pitch curves, a = {a:.4f} mm")
     ax1.legend(fontsize=7)
-    ax1.set_xlabel("x (mm)")
-    ax1.set_ylabel("y (mm)")
-    ax1.set_title(f"{title}: pitch curves, a = {a:.4f} mm", fontsize=9)
     deg = np.degrees(phi)
     ax2.plot(deg, pair.ratio(phi), "k-", label="ratio ω2/ω1")
     ax2.set_xlabel("driver angle (deg)")
@@ -185,11 +187,7 @@ def planetary_trajectory_figure(train, metrics, title: str, seedling_box=None, c
         (ax1, "relative to the frame"),
         (ax2, f"relative to the ground, spacing {metrics.plant_spacing:g} mm"),
     ):
-        ax.set_aspect("equal")
-        ax.grid(True, lw=0.3)
-        ax.set_xlabel("x (mm)")
-        ax.set_ylabel("y (mm)")
-        ax.set_title(f"{title}: {sub}", fontsize=9)
+        _plan_view(ax, f"{title}: {sub}")
     ax1.legend(fontsize=6, loc="best")
     fig.tight_layout()
     return fig
@@ -216,10 +214,7 @@ def toothed_pair_figure(
             ax.plot(xy[:, 0], xy[:, 1], "C0-", lw=0.6)
         for xy in rings(driven_polygon, driven_place):
             ax.plot(xy[:, 0], xy[:, 1], "C1-", lw=0.6)
-        ax.set_aspect("equal")
-        ax.grid(True, lw=0.3)
-        ax.set_xlabel("x (mm)")
-        ax.set_ylabel("y (mm)")
+        _plan_view(ax)
     span = 0.06 * abs(contact_x) + 3.0
     x0 = contact_x
     ax2.set_xlim(x0 - span, x0 + span)
@@ -257,11 +252,7 @@ def synthesis_figure(chain, sample, feasible, title: str) -> plt.Figure:
         )
         ax2.annotate(str(k + 1), ps.q[k], fontsize=8)
     for ax, sub in ((ax1, "Burmester curves"), (ax2, "open-chain 3R mechanism through the four poses")):
-        ax.set_aspect("equal")
-        ax.grid(True, lw=0.3)
-        ax.set_xlabel("x (mm)")
-        ax.set_ylabel("y (mm)")
-        ax.set_title(f"{title}: {sub}", fontsize=9)
+        _plan_view(ax, f"{title}: {sub}")
         ax.legend(fontsize=6, loc="best")
     fig.tight_layout()
     return fig

@@ -199,6 +199,19 @@ def _placement(frame: ArcFrame, cutter: ShaperCutter, s, s_centre, side: float, 
     return c, beta - eta, p, nrm, kap
 
 
+def _on_gear(c, psi, q) -> np.ndarray:
+    """Cutter-frame points ``q`` turned by ``psi`` about, and moved to, cutter centres ``c``
+    (gear frame); the arrays broadcast, so one placement per point or an outer product both work."""
+    cs, sn = np.cos(psi), np.sin(psi)
+    return np.stack([c[..., 0] + cs * q[..., 0] - sn * q[..., 1], c[..., 1] + sn * q[..., 0] + cs * q[..., 1]], axis=-1)
+
+
+def _tip_region(frame: ArcFrame, distance: float, tolerance: float) -> shapely.Geometry:
+    """Region inside the pitch curve offset by ``distance`` along N (the tip curve)."""
+    tip = shapely.Polygon(_offset(frame, distance, tolerance))
+    return tip if tip.is_valid else shapely.make_valid(tip, method="structure", keep_collapsed=False)
+
+
 def _contact(frame, cutter, tau, s_centres, side, shift):
     """Envelope points Y (spaces, n, 2), contact rolls (spaces, n) for profile params ``tau``."""
     q, n, k = cutter.profile(tau)
@@ -221,9 +234,7 @@ def _contact(frame, cutter, tau, s_centres, side, shift):
             break
         lam = new
     c, psi, _, _, _ = _placement(frame, cutter, s, sc, side, shift)
-    cs, sn = np.cos(psi), np.sin(psi)
-    y = np.stack([c[..., 0] + cs * q[:, 0] - sn * q[:, 1], c[..., 1] + sn * q[:, 0] + cs * q[:, 1]], axis=-1)
-    return y, s
+    return _on_gear(c, psi, q), s
 
 
 def _chord_error(a, m, b):
@@ -357,9 +368,7 @@ def generate(
     tau, y = _profile_grid(frame, cutter, s_centres, side, shift, tolerance)
     spaces_poly = _space_polygons(y, s_centres, frame, side, m)
     cut = shapely.union_all(spaces_poly)
-    tip = shapely.Polygon(_offset(frame, side * (addendum + shift) * m, tolerance))
-    if not tip.is_valid:
-        tip = shapely.make_valid(tip, method="structure", keep_collapsed=False)
+    tip = _tip_region(frame, side * (addendum + shift) * m, tolerance)
     if internal:
         depth = float(np.max(np.linalg.norm(y, axis=-1)))
         r_rim = depth + (3.0 * m if rim is None else float(rim))
@@ -412,10 +421,8 @@ def secondary_cut(
     s = pitch * np.arange(teeth * per_pitch) / per_pitch
     j = (np.round(s / pitch - phase) + phase) * pitch
     c, psi, _, _, _ = _placement(frame, cutter, s, j, side, shift)
-    outline = cutter.outline(per_piece=6)
-    cs, sn = np.cos(psi)[:, None], np.sin(psi)[:, None]
-    xs = c[:, None, 0] + cs * outline[:, 0] - sn * outline[:, 1]
-    ys = c[:, None, 1] + sn * outline[:, 0] + cs * outline[:, 1]
+    placed = _on_gear(c[:, None, :], psi[:, None], cutter.outline(per_piece=6))
+    xs, ys = placed[..., 0], placed[..., 1]
     shapely.prepare(body)
     if side < 0:  # ring: cutter points nearer the axis than the ring's innermost point are in free space
         near = np.hypot(xs, ys) >= shapely.distance(shapely.Point(0.0, 0.0), body.interiors[0]) * (1 - 1e-9)
@@ -497,7 +504,8 @@ def _tip_lands(tip, cut, frame, s_centres, side, offset, phase):
     lands = np.zeros(len(s_centres))
     pitch = frame.length / len(s_centres)
     probe_s = np.linspace(0, frame.length, 8 * len(s_centres), endpoint=False)
-    probe = frame.at(probe_s)[0] + side * offset * frame.at(probe_s)[2]
+    p, _, nrm, _ = frame.at(probe_s, curvature=False)
+    probe = p + side * offset * nrm
     for piece in pieces:
         if piece.is_empty or piece.length == 0:
             continue
@@ -546,12 +554,9 @@ def boolean_reference(
         sc = j * pitch
         s = sc + pitch * np.linspace(-window, window, int(2 * window * positions) + 1)
         c, psi, _, _, _ = _placement(frame, cutter, s, sc, side, shift)
-        cs, sn = np.cos(psi)[:, None], np.sin(psi)[:, None]
-        xs = c[:, None, 0] + cs * outline[:, 0] - sn * outline[:, 1]
-        ys = c[:, None, 1] + sn * outline[:, 0] + cs * outline[:, 1]
-        polys.extend(shapely.polygons(np.stack([xs, ys], axis=-1)))
+        polys.extend(shapely.polygons(_on_gear(c[:, None, :], psi[:, None], outline)))
     cut = shapely.union_all(polys)
-    tip = shapely.Polygon(_offset(frame, side * (addendum + shift) * m, CHORD_TOLERANCE))
+    tip = _tip_region(frame, side * (addendum + shift) * m, CHORD_TOLERANCE)
     if internal:
         r = 2 * float(np.max(np.linalg.norm(_offset(frame, 3 * m, CHORD_TOLERANCE), axis=1)))
         disc = shapely.Point(0, 0).buffer(r, 256)

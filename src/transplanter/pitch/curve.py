@@ -43,6 +43,7 @@ from transplanter.pitch.periodic import (
     PeriodicIntegral,
     PeriodicSpline,
     Scaled,
+    check_lobes,
     invert_increasing,
 )
 
@@ -109,8 +110,7 @@ class PitchCurve:
     @classmethod
     def from_polar_points(cls, angles, radii, lobes: int = 1, degree: int = 3) -> PitchCurve:
         """Periodic spline through radii (mm) at polar angles (rad) within one lobe (seed 004 style)."""
-        if not isinstance(lobes, int | np.integer) or lobes < 1:
-            raise SpecError.out_of_range("lobes", lobes, "an integer >= 1")
+        lobes = check_lobes(lobes)
         radii = finite_array("radii", radii)
         if np.any(radii <= 0):
             i = int(np.flatnonzero(radii <= 0)[0])

@@ -45,6 +45,7 @@ __all__ = [
     "PeriodicIntegral",
     "invert_increasing",
     "quintic_hermite",
+    "check_lobes",
 ]
 
 _MAX_NU = 2
@@ -53,6 +54,13 @@ _MAX_NU = 2
 def _check_nu(nu: int) -> None:
     if nu not in (0, 1, 2):
         raise SpecError.out_of_range("derivative order nu", nu, "0, 1 or 2")
+
+
+def check_lobes(lobes) -> int:
+    """``lobes`` as an int >= 1, or SpecError."""
+    if not isinstance(lobes, int | np.integer) or lobes < 1:
+        raise SpecError.out_of_range("lobes", lobes, "an integer >= 1")
+    return int(lobes)
 
 
 class Periodic:
@@ -117,8 +125,7 @@ class FourierSeries(Periodic):
         n = max(a_arr.size, b_arr.size)
         a_arr = np.pad(a_arr, (0, n - a_arr.size))
         b_arr = np.pad(b_arr, (0, n - b_arr.size))
-        if not isinstance(lobes, int | np.integer) or lobes < 1:
-            raise SpecError.out_of_range("lobes", lobes, "an integer >= 1")
+        lobes = check_lobes(lobes)
         object.__setattr__(self, "a0", float(finite_array("a0", [a0])[0]))
         object.__setattr__(self, "a", tuple(float(v) for v in a_arr))
         object.__setattr__(self, "b", tuple(float(v) for v in b_arr))
@@ -212,8 +219,7 @@ class FocalEllipse(Periodic):
         e = float(eccentricity)
         if not math.isfinite(e) or not 0 <= e < 1:
             raise SpecError.out_of_range("eccentricity", eccentricity, "0 <= e < 1")
-        if not isinstance(lobes, int | np.integer) or lobes < 1:
-            raise SpecError.out_of_range("lobes", lobes, "an integer >= 1")
+        lobes = check_lobes(lobes)
         object.__setattr__(self, "semi_major", float(semi_major))
         object.__setattr__(self, "eccentricity", e)
         object.__setattr__(self, "lobes_", int(lobes))
