@@ -44,6 +44,7 @@ __all__ = [
     "FlatFacedFollower",
     "CamProfile",
     "disc_cam",
+    "roller_centre",
 ]
 
 TWO_PI = 2 * math.pi
@@ -235,10 +236,9 @@ def _to_cam(theta, v):
     return np.stack([c * v[:, 0] + s * v[:, 1], -s * v[:, 0] + c * v[:, 1]], axis=1)
 
 
-def _roller_frame(motion, follower, theta):
+def _roller_frame(follower, s, s1, s2):
     """Roller centre C and its first two θ-derivatives in the follower frame, and the follower's
-    unit direction of motion at C."""
-    s, s1, s2 = motion(theta), motion(theta, 1), motion(theta, 2)
+    unit direction of motion at C, for follower coordinate s and its θ-derivatives s1, s2."""
     if isinstance(follower, OscillatingRollerFollower):
         d, arm = follower.pivot_distance, follower.arm_length
         prime = follower.base_radius + follower.roller_radius
@@ -259,6 +259,14 @@ def _roller_frame(motion, follower, theta):
     c2 = np.stack([np.zeros_like(s), s2], axis=1)
     move = np.tile([0.0, 1.0], (len(s), 1))
     return c, c1, c2, move
+
+
+def roller_centre(follower, s, theta) -> np.ndarray:
+    """Roller centre (n, 2) in the cam frame at follower coordinates ``s`` and cam angles ``theta``."""
+    s = np.atleast_1d(np.asarray(s, dtype=float))
+    theta = np.broadcast_to(np.asarray(theta, dtype=float), s.shape)
+    zero = np.zeros_like(s)
+    return _to_cam(theta, _roller_frame(follower, s, zero, zero)[0])
 
 
 def disc_cam(
@@ -292,7 +300,7 @@ def disc_cam(
         return CamProfile(theta, None, profile, np.zeros(n), rho, motion, follower)
     if not isinstance(follower, OscillatingRollerFollower | TranslatingRollerFollower):
         raise SpecError(f"unknown follower type {type(follower).__name__}")
-    c, c1, c2, move = _roller_frame(motion, follower, theta)
+    c, c1, c2, move = _roller_frame(follower, motion(theta), motion(theta, 1), motion(theta, 2))
     jc = np.stack([-c[:, 1], c[:, 0]], axis=1)
     jc1 = np.stack([-c1[:, 1], c1[:, 0]], axis=1)
     rel1 = c1 - jc  # velocity of the roller centre relative to the cam, follower frame

@@ -6,7 +6,9 @@ scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the fo
 (the seed-000 Table 2 layout) and planetary trains (beside published values) in a script and,
 with ``--plots DIR``, writes the arms' plots. ``transplanter optimise parts/x.py --seed S``
 runs differential evolution on the script's ``problem()`` with a progress line per generation
-and prints the best parameters as JSON.
+and prints the best parameters as JSON. ``transplanter check exports/<family>`` re-runs the
+meshing and follower checks on the files already on disk (and verifies their SHA-256
+against the manifest); it exits 1 if a part that must mesh does not.
 Exit status: 0 on success, 1 if any part failed, 2 on bad input (message on stderr).
 """
 
@@ -134,6 +136,47 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     return 0
 
 
+def _fmt_um(mm: float) -> str:
+    return f"{mm * 1000:.3g} µm"
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from transplanter.families import check_family
+
+    ok = True
+    for folder in args.folders:
+        rep = check_family(folder, args.script)
+        print(f"{rep['family']}  ({folder}, design from {rep['script']})")
+        if rep["script_changed"]:
+            print("  note: the part script changed since the build; checking against its current design")
+        for fname, problem in sorted(rep["files"].items()):
+            print(f"  file {fname}: {problem}")
+        if not rep["parts"]:
+            print("  no meshing parts or cams in this family; files checked")
+        for name, part in rep["parts"].items():
+            res = part["results"]
+            for source, r in sorted((k, v) for k, v in res.items() if isinstance(v, dict)):
+                if "max_penetration_mm2" in r:
+                    line = (
+                        f"overlap {r['max_penetration_mm2']:.3g} mm² (fouling {r['max_fouling_mm2']:.3g}), "
+                        f"TE max {_fmt_um(r['max_transmission_error_mm'])} "
+                        f"rms {_fmt_um(r['rms_transmission_error_mm'])}, "
+                        f"backlash {_fmt_um(r['backlash_mm'][0])}..{_fmt_um(r['backlash_mm'][1])}, "
+                        f"contact ratio {r['contact_ratio']:.3g}"
+                    )
+                    if "train" in r:
+                        line += f", train tip deviation {_fmt_um(r['train']['max_tip_deviation_mm'])}"
+                else:
+                    line = f"follower error max {_fmt_um(r['max_error_mm'])} rms {_fmt_um(r['rms_error_mm'])}"
+                print(f"  {name} [{source}]: {line}")
+            tag = "finding (expected)" if part["expected"] else "PROBLEM"
+            for p in part["problems"]:
+                print(f"  {name}: {tag}: {p}")
+        print(f"  {'ok' if rep['ok'] else 'FAILED'}")
+        ok = ok and rep["ok"]
+    return 0 if ok else 1
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="transplanter", description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
@@ -150,6 +193,9 @@ def main(argv: list[str] | None = None) -> int:
     o.add_argument("--seed", type=int, default=0, help="random seed (runs are reproducible)")
     o.add_argument("--maxiter", type=int, default=50, help="generations of differential evolution")
     o.add_argument("--popsize", type=int, default=15, help="population size per variable")
+    c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
+    c.add_argument("folders", nargs="+", help="built family folders, e.g. exports/planetary_seed004")
+    c.add_argument("--script", help="part script (default: the one recorded in the manifest)")
     args = parser.parse_args(argv)
     try:
         if args.command == "build":
@@ -160,6 +206,8 @@ def main(argv: list[str] | None = None) -> int:
             if args.maxiter < 1 or args.popsize < 1:
                 parser.error("--maxiter and --popsize must be >= 1")
             return _cmd_optimise(args)
+        if args.command == "check":
+            return _cmd_check(args)
         return _cmd_analyse(args)
     except TransplanterError as exc:
         print(f"transplanter: error: {exc}", file=sys.stderr)

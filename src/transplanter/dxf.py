@@ -15,7 +15,8 @@ units header, so the annotation says mm); layers ``CUT`` (all contours), ``START
 start hole inside every inner contour, in the waste), ``ANNOTATION`` (part name, tooth count,
 module); ezdxf's fixed metadata so rebuilding gives identical bytes.
 
-**Read-back.** :func:`read_contours` re-reads the CUT layer and flattens the arcs;
+**Read-back.** :func:`read_contours` re-reads the CUT layer and flattens the arcs
+(:func:`read_section` nests them into the part section);
 :func:`contour_deviation` gives the largest distance between source and read-back (both ways).
 
 **Wire.** :func:`wire_path` offsets a part section for the wire centre (outer contours
@@ -51,6 +52,7 @@ __all__ = [
     "DxfPart",
     "dxf_bytes",
     "read_contours",
+    "read_section",
     "contour_deviation",
     "wire_path",
     "wire_violations",
@@ -277,6 +279,20 @@ def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
             verts = [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices]
         out.append(_bulge_points(verts, flatten))
     return out
+
+
+def read_section(data: bytes, flatten: float = 1e-5) -> shapely.Polygon:
+    """The part section a DXF describes: its CUT contours nested even-odd (the largest is the
+    outline, contours inside it holes), as one shapely polygon."""
+    polys = sorted((shapely.Polygon(c) for c in read_contours(data, flatten)), key=lambda p: -p.area)
+    if not polys:
+        raise ExportError("the DXF has no closed contour on its CUT layer")
+    section = polys[0]
+    for p in polys[1:]:
+        section = shapely.symmetric_difference(section, p)
+    if not isinstance(section, shapely.Polygon) or not section.is_valid:
+        raise ExportError("the DXF's CUT contours do not nest into one part section")
+    return section
 
 
 def _one_way(points: np.ndarray, ring: np.ndarray) -> float:

@@ -34,7 +34,10 @@ Part kinds so far
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
+import io
+import json
 import math
 import re
 import runpy
@@ -46,11 +49,11 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from transplanter import dxf, plots, solids, stl
+from transplanter import dxf, plots, solids, stl, validate
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.cams import disc_cam
 from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, PartScriptError, SpecError, TransplanterError
+from transplanter.errors import ExportError, GeometryError, PartScriptError, SpecError, TransplanterError
 from transplanter.export import atomic_write, csv_bytes, json_bytes
 from transplanter.linkage import dynamics as dyn
 from transplanter.linkage.fourbar import FourBar, Link
@@ -74,6 +77,7 @@ __all__ = [
     "load_family",
     "discover",
     "build_family",
+    "check_family",
 ]
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
@@ -429,12 +433,40 @@ def _manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], 
     return results, files
 
 
+#: meshing-check steps per driver turn (raised to be coprime with the driver's tooth count)
+MESH_STEPS = 180
+#: follower-check samples per cam turn
+FOLLOWER_STEPS = 720
+#: largest follower error on the made cam, mm at the roller: a tenth of a typical wire-EDM
+#: tolerance, and 50 times the profile's own chord and arc-fitting error (≲ 1 µm)
+FOLLOWER_TOL = 5e-3
+
+
+def _outline_polygon(data: bytes, internal: bool) -> shapely.Polygon:
+    """Gear material from an outline CSV: inside it, or for a ring outside it (to a rim 5 mm
+    beyond its farthest point — only the teeth matter for meshing)."""
+    xy = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1, ndmin=2)
+    if not internal:
+        return shapely.Polygon(xy)
+    rim = float(np.linalg.norm(xy, axis=1).max()) + 5.0
+    return shapely.Polygon(solids.circle_polygon(0.0, 0.0, rim).exterior.coords, [xy])
+
+
 @dataclass(frozen=True)
 class ToothedPairStudy:
     """Teeth of both gears of ``pair`` cut by ``cutter``; ``teeth`` is the driver's tooth count.
 
     ``rejected`` lists ``(label, teeth, cutter)`` alternatives (e.g. a published module) that
     are tried and must fail: their errors go into the manifest as findings.
+
+    The pair is then *meshed* (``validate.mesh_check``): the generated outlines, and with
+    ``making`` the DXF and the mid-plane section of the STL re-read from their bytes, turn
+    through a full cycle at the design ratio; the report carries penetration, fouling,
+    transmission error, backlash against ``validate.backlash_band`` and contact ratio, and a
+    plot. A pair that does not mesh fails the part, unless ``must_mesh`` is False: then the
+    study is a finding — figures and plot are written, the shop files (DXF, STL) are not.
+    With ``train`` (the ``DifferentialTrain`` the pair drives) the train is rebuilt from each
+    source's meshing and its needle-tip path compared with the designed one.
     """
 
     name: str
@@ -444,12 +476,73 @@ class ToothedPairStudy:
     allow_undercut: bool = False
     rejected: tuple[tuple[str, int, ShaperCutter], ...] = ()
     making: tuple[Making, Making] | None = None
+    must_mesh: bool = True
+    train: DifferentialTrain | None = None
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def _sized(self) -> tuple[GearPair, object]:
         pair, sizing = self.pair.sized(teeth=self.teeth)
         if abs(sizing.module - self.cutter.module) > 1e-9 * sizing.module:
             raise SpecError.out_of_range(
                 "cutter module", self.cutter.module, f"the pair's module {sizing.module!r} mm at {self.teeth} teeth"
+            )
+        return pair, sizing
+
+    @property
+    def _names(self) -> tuple[str, str]:
+        return ("ring", "planet") if self.pair.ring == "driver" else ("driver", "driven")
+
+    def meshing(self, files: dict[str, bytes], sources=("outline", "dxf", "stl")) -> dict:
+        """Mesh the pair as found in ``files`` (this study's file names → bytes) for each source
+        present; returns ``{source: validate.MeshReport}``."""
+        pair, sizing = self._sized()
+        internal = (pair.ring == "driver", pair.ring == "driven")
+        readers = {
+            "outline": (".outline.csv", lambda data, i: _outline_polygon(data, internal[i])),
+            "dxf": (".dxf", lambda data, i: dxf.read_section(data)),
+            "stl": (".stl", lambda data, i: stl.section(data)),
+        }
+        out = {}
+        for source in sources:
+            suffix, read = readers[source]
+            names = [f"{self.name}.{role}{suffix}" for role in ("driver", "driven")]
+            if not all(n in files for n in names):
+                continue
+            polys = [read(files[n], i) for i, n in enumerate(names)]
+            out[source] = validate.mesh_check(pair, *polys, sizing.module, steps=MESH_STEPS, teeth=int(sizing.teeth[0]))
+        return out
+
+    def meshing_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
+        """Figures per source, the meshing plot, and the problems (``source: text``)."""
+        pair, _ = self._sized()
+        band = validate.backlash_band(pair, self.cutter.thickening)
+        results: dict = {"backlash_band_mm": [_r(band[0], 6), _r(band[1], 6)], "steps": MESH_STEPS}
+        problems = []
+        trains = {}
+        for source, rep in sorted(reports.items()):
+            res = rep.summary()
+            found = rep.problems(backlash=band, names=self._names)
+            res["problems"] = found
+            problems += [f"{source}: {p}" for p in found]
+            if self.train is not None:
+                trains[source] = validate.train_check(self.train, rep)
+                res["train"] = trains[source].summary()
+                if found:
+                    res["train"]["note"] = "from the contact at the pitch point; the problems above are ignored"
+            results[source] = res
+        files = {}
+        shown = trains.get("stl", trains.get("outline"))
+        for fmt in ("png", "svg"):
+            fig = plots.meshing_figure(reports, self.name, shown)
+            files[f"{self.name}.meshing.{fmt}"] = plots.figure_bytes(fig, fmt)
+        return results, files, problems
+
+    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+        pair, sizing = self._sized()
+        if self.train is not None and abs(self.train.pair.centre_distance - pair.centre_distance) > 1e-9:
+            raise SpecError.out_of_range(
+                "train",
+                self.train.pair.centre_distance,
+                f"a train on this pair (centre distance {pair.centre_distance})",
             )
         gears = generate_pair(pair, self.cutter, sizing.teeth, allow_undercut=self.allow_undercut)
         c = self.cutter
@@ -465,6 +558,7 @@ class ToothedPairStudy:
                 "thickening_mm": c.thickening,
             },
             "chord_tolerance_mm": CHORD_TOLERANCE,
+            "must_mesh": self.must_mesh,
         }
         results: dict = {}
         files: dict[str, bytes] = {}
@@ -479,7 +573,15 @@ class ToothedPairStudy:
             }
             rows = [[f"{x:.9f}", f"{y:.9f}"] for x, y in gear.toothed_contour]
             files[f"{self.name}.{role}.outline.csv"] = csv_bytes(["x_mm", "y_mm"], rows)
-            if self.making is not None:
+        reports = self.meshing(files, ("outline",))
+        band = validate.backlash_band(pair, self.cutter.thickening)
+        problems = reports["outline"].problems(backlash=band, names=self._names)
+        if problems and self.must_mesh:
+            raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
+        if problems:
+            results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
+        elif self.making is not None:
+            for role, gear in zip(("driver", "driven"), gears, strict=True):
                 making = self.making[0 if role == "driver" else 1]
                 notes = (f"{gear.teeth} teeth", f"module {gear.module:.6g} mm", f"face width {making.width:g} mm")
                 res, made = _manufacture(
@@ -492,6 +594,12 @@ class ToothedPairStudy:
                 )
                 results[role]["made"] = res
                 files.update(made)
+            reports.update(self.meshing(files, ("dxf", "stl")))
+        meshing, plot_files, problems = self.meshing_results(reports)
+        results["meshing"] = meshing
+        files.update(plot_files)
+        if problems and not results.get("shop_files"):
+            raise GeometryError(f"{self.name}: the made parts do not mesh: " + "; ".join(problems))
         findings = {}
         for label, teeth, cutter in self.rejected:
             alt, alt_sizing = self.pair.sized(teeth=teeth)
@@ -514,6 +622,11 @@ class ToothedPairStudy:
             )
             files[f"{self.name}.teeth.{fmt}"] = plots.figure_bytes(fig, fmt)
         return {"kind": "toothed_pair", "parameters": params, "results": results}, files
+
+    def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+        """Re-run the meshing checks on this part's files as found on disk."""
+        results, _, problems = self.meshing_results(self.meshing(files))
+        return results, problems
 
 
 @dataclass(frozen=True)
@@ -590,7 +703,12 @@ class SynthesisStudy:
 
 @dataclass(frozen=True)
 class CamStudy:
-    """A disc cam giving ``follower`` the ``motion`` (a 2π-periodic function of the cam angle)."""
+    """A disc cam giving ``follower`` the ``motion`` (a 2π-periodic function of the cam angle).
+
+    The follower is then run on the made contour (``validate.follower_check``): the profile
+    CSV, and with ``making`` the DXF and the STL's mid-plane section re-read from their bytes;
+    an error above ``FOLLOWER_TOL`` at the roller fails the part.
+    """
 
     name: str
     motion: Periodic
@@ -598,6 +716,46 @@ class CamStudy:
     n: int = 3600
     max_pressure_angle_deg: float = 45.0
     making: Making | None = None
+
+    def following(self, files: dict[str, bytes], sources=("profile", "dxf", "stl")) -> dict:
+        """Run the follower on the cam as found in ``files`` for each source present;
+        returns ``{source: validate.FollowerReport}``."""
+        readers = {
+            "profile": (
+                f"{self.name}.profile.csv",
+                lambda d: shapely.Polygon(np.loadtxt(io.BytesIO(d), delimiter=",", skiprows=1, ndmin=2)[:, 1:]),
+            ),
+            "dxf": (f"{self.name}.cam.dxf", dxf.read_section),
+            "stl": (f"{self.name}.cam.stl", stl.section),
+        }
+        out = {}
+        for source in sources:
+            fname, read = readers[source]
+            if fname in files:
+                out[source] = validate.follower_check(read(files[fname]), self.motion, self.follower, FOLLOWER_STEPS)
+        return out
+
+    def following_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
+        results: dict = {"tolerance_mm": FOLLOWER_TOL}
+        problems = []
+        for source, rep in sorted(reports.items()):
+            results[source] = rep.summary()
+            if rep.max_error > FOLLOWER_TOL:
+                k = int(np.argmax(np.abs(rep.error)))
+                problems.append(
+                    f"{source}: the follower on the made cam misses the law by {rep.error[k] * 1000:.2f} µm at cam "
+                    f"angle {math.degrees(rep.theta[k]):.1f} deg (limit {FOLLOWER_TOL * 1000:g} µm)"
+                )
+        files = {
+            f"{self.name}.follower.{fmt}": plots.figure_bytes(plots.follower_figure(reports, self.name), fmt)
+            for fmt in ("png", "svg")
+        }
+        return results, files, problems
+
+    def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+        """Re-run the follower check on this part's files as found on disk."""
+        results, _, problems = self.following_results(self.following(files))
+        return results, problems
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         cam = disc_cam(self.motion, self.follower, self.n, math.radians(self.max_pressure_angle_deg))
@@ -622,10 +780,7 @@ class CamStudy:
         rows = [
             [f"{t:.6f}", f"{x:.9f}", f"{y:.9f}"] for t, (x, y) in zip(np.degrees(cam.theta), cam.profile, strict=True)
         ]
-        files = {
-            f"{self.name}.cam.json": json_bytes({"parameters": params, "results": results}),
-            f"{self.name}.profile.csv": csv_bytes(["cam_angle_deg", "x_mm", "y_mm"], rows),
-        }
+        files = {f"{self.name}.profile.csv": csv_bytes(["cam_angle_deg", "x_mm", "y_mm"], rows)}
         for fmt in ("png", "svg"):
             files[f"{self.name}.cam.{fmt}"] = plots.figure_bytes(plots.cam_figure(cam, self.name), fmt)
         if self.making is not None:
@@ -644,6 +799,14 @@ class CamStudy:
             )
             results["made"] = res
             files.update(made)
+        following, plot_files, problems = self.following_results(self.following(files))
+        if problems:
+            raise GeometryError(
+                f"{self.name}: the made cam does not give the prescribed motion: " + "; ".join(problems)
+            )
+        results["follower_check"] = following
+        files.update(plot_files)
+        files[f"{self.name}.cam.json"] = json_bytes({"parameters": params, "results": results})
         return {"kind": "cam", "parameters": params, "results": results}, files
 
 
@@ -657,6 +820,8 @@ class Family:
     name: str
     description: str
     parts: tuple[Part, ...] = field(default_factory=tuple)
+    #: the part script it came from (set by :func:`load_family`)
+    script: str | None = None
 
     def __post_init__(self) -> None:
         _check_name("family", self.name)
@@ -705,7 +870,7 @@ def load_family(path: str | Path) -> Family:
         raise PartScriptError(f"{p}:{_script_line(exc, p)}: family() raised {type(exc).__name__}: {exc}") from exc
     if not isinstance(fam, Family):
         raise PartScriptError(f"{p}: family() returned {type(fam).__name__}, expected transplanter.families.Family")
-    return fam
+    return dataclasses.replace(fam, script=str(p))
 
 
 def _script_line(exc: BaseException, path: Path) -> str:
@@ -733,6 +898,8 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
     """
     root = Path(out_dir) / family.name
     manifest: dict = {"family": family.name, "description": family.description, "parts": {}, "ok": True}
+    if family.script is not None:
+        manifest["script"] = {"path": family.script, "sha256": _sha256(Path(family.script).read_bytes())}
     for part in family.parts:
         if progress is not None:
             progress(f"{family.name}/{part.name}")
@@ -751,3 +918,65 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
     manifest["report"] = {"report.html": _sha256(report)}
     atomic_write(root / "manifest.json", json_bytes(manifest))
     return manifest
+
+
+def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
+    """Re-run the checks on a built family's files as found on disk.
+
+    Every file the manifest lists must be there with its SHA-256; the family is loaded from
+    ``script`` (default: the script recorded in the manifest) for the design it was built
+    from, and every part that has checks (toothed pairs, cams) re-runs them on its files.
+    Returns ``{"family", "script", "script_changed", "files": {name: problem}, "parts":
+    {part: {"results", "problems", "expected"}}, "ok"}``; ``expected`` marks a part built as
+    a finding (``must_mesh=False``), whose problems do not make the check fail.
+
+    Raises
+    ------
+    ExportError
+        If the folder has no readable manifest.
+    PartScriptError
+        If the script cannot be found or loaded.
+    """
+    root = Path(folder)
+    try:
+        manifest = json.loads((root / "manifest.json").read_text())
+    except (OSError, ValueError) as exc:
+        raise ExportError(f"{root} is not a built family folder (manifest.json: {exc})") from exc
+    recorded = manifest.get("script", {})
+    path = Path(script) if script is not None else Path(recorded.get("path", ""))
+    if not str(path) or not path.is_file():
+        raise PartScriptError(
+            f"{root}: the part script {str(path) or '(not recorded)'} is not found; pass it with --script"
+        )
+    fam = load_family(path)
+    if fam.name != manifest.get("family"):
+        raise PartScriptError(f"{path} defines family {fam.name!r}, but {root} holds {manifest.get('family')!r}")
+    out: dict = {
+        "family": fam.name,
+        "script": str(path),
+        "script_changed": recorded.get("sha256") not in (None, _sha256(path.read_bytes())),
+        "files": {},
+        "parts": {},
+        "ok": True,
+    }
+    for part in fam.parts:
+        rec = manifest["parts"].get(part.name)
+        if rec is None or "error" in rec:
+            continue
+        files = {}
+        for fname, digest in rec.get("files", {}).items():
+            f = root / fname
+            if not f.is_file():
+                out["files"][fname] = "missing"
+                continue
+            data = f.read_bytes()
+            if _sha256(data) != digest:
+                out["files"][fname] = "changed since the build (SHA-256 differs)"
+            files[fname] = data
+        if hasattr(part, "check"):
+            results, problems = part.check(files)
+            expected = not getattr(part, "must_mesh", True)
+            out["parts"][part.name] = {"results": results, "problems": problems, "expected": expected}
+            out["ok"] = out["ok"] and (expected or not problems)
+    out["ok"] = out["ok"] and not out["files"]
+    return out

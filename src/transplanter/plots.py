@@ -28,6 +28,8 @@ __all__ = [
     "toothed_pair_figure",
     "synthesis_figure",
     "cam_figure",
+    "meshing_figure",
+    "follower_figure",
 ]
 
 _METADATA = {
@@ -282,5 +284,55 @@ def cam_figure(cam, title: str) -> plt.Figure:
     ax2.set_xticks(range(0, 361, 45))
     ax2.grid(True, lw=0.3)
     ax2.set_title(f"max pressure angle {math.degrees(cam.max_pressure_angle):.2f} deg", fontsize=9)
+    fig.tight_layout()
+    return fig
+
+
+def meshing_figure(reports: dict, title: str, train=None) -> plt.Figure:
+    """Penetration (with the fouling share) and transmission error over the driver's turn for
+    each checked source of a gear pair (``{"outline": MeshReport, "dxf": ..., ...}``), and the
+    needle-tip deviation of a train rebuilt from the parts if ``train`` (a TrainReport) is given."""
+    rows = 3 if train is not None else 2
+    fig, axes = plt.subplots(rows, 1, figsize=(10, 2.6 * rows + 0.6), sharex=False)
+    ax1, ax2 = axes[0], axes[1]
+    for i, (source, r) in enumerate(sorted(reports.items())):
+        deg = np.degrees(r.driver_angle)
+        ax1.plot(deg, r.penetration, f"C{i}-", lw=0.9, label=f"{source}: overlap")
+        if r.max_fouling > 0:
+            ax1.plot(deg, r.fouling, f"C{i}:", lw=0.9, label=f"{source}: fouling (away from pitch point)")
+        ax2.plot(deg, 1000 * r.transmission_error, f"C{i}-", lw=0.8, label=source)
+    ax1.set_ylabel("overlap (mm²)")
+    ax1.set_title(f"{title}: penetration over the driver's turn", fontsize=9)
+    ax2.set_ylabel("transmission error (µm)")
+    ax2.set_title("geometric transmission error at the driven pitch point (driving flanks)", fontsize=9)
+    for ax in (ax1, ax2):
+        ax.set_xlim(0, 360)
+        ax.set_xticks(range(0, 361, 45))
+        ax.set_xlabel("driver angle (deg)")
+        ax.grid(True, lw=0.3)
+        ax.legend(fontsize=7, loc="upper right")
+    if train is not None:
+        ax3 = axes[2]
+        ax3.plot(np.degrees(train.theta), 1000 * train.deviation, "C3.", ms=2)
+        ax3.set_xlabel("carrier angle (deg)")
+        ax3.set_ylabel("tip deviation (µm)")
+        ax3.set_title("needle tip of the train rebuilt from the parts vs the designed trajectory", fontsize=9)
+        ax3.grid(True, lw=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def follower_figure(reports: dict, title: str) -> plt.Figure:
+    """Follower error on the made cam contour over the cam's turn, per checked source."""
+    fig, ax = plt.subplots(figsize=(10, 3.2))
+    for i, (source, r) in enumerate(sorted(reports.items())):
+        ax.plot(np.degrees(r.theta), 1000 * r.error, f"C{i}-", lw=0.8, label=source)
+    ax.set_xlim(0, 360)
+    ax.set_xticks(range(0, 361, 45))
+    ax.set_xlabel("cam angle (deg)")
+    ax.set_ylabel("error at the roller (µm)")
+    ax.set_title(f"{title}: follower on the made contour minus the prescribed law", fontsize=9)
+    ax.grid(True, lw=0.3)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     return fig

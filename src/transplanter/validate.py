@@ -1,16 +1,22 @@
-"""Kinematic validation of generated gear profiles: do the parts themselves mesh?
+"""Kinematic validation of the made parts: do the gears mesh, does the train and the cam move as designed?
 
-The driver is turned through a full turn in ``steps`` positions; the driven gear is placed
-where the *design* ratio puts it (``GearPair.driven_rotation``); and the actual tooth
-outlines are compared near the pitch point (a window of a few modules, so each step costs a
-few small polygon operations):
+**Gear pairs** (:func:`mesh_check`). The driver is turned through a full turn in ``steps``
+positions (raised to be coprime with the driver's tooth count, so the samples fall at every
+phase of the tooth mesh); the driven gear is placed where the *design* ratio puts it
+(``GearPair.driven_rotation``); and the actual tooth outlines — the generated polygons, or
+the contours re-read from the DXF, or a mid-plane section of the STL — are compared:
 
-- **penetration**: overlap area of the two outlines (mm²) — must stay below a tolerance;
+- **penetration**: overlap area of the two whole outlines (mm²), split into the part near the
+  pitch point (inside a window of ``window`` modules) and **fouling** — overlap further away,
+  where teeth that are not meant to be in mesh yet (or any more) hit each other: tip-to-tip
+  fouling on entry and exit of an internal mesh, or teeth of a non-circular pair whose ratio
+  changes too fast for the teeth beside the pitch point to follow;
 - **transmission error**: the driven gear is turned back from its design angle until its
   teeth first touch the driver's (root finding on the signed gap — distance, or minus the
-  penetration depth — with scipy ``brentq``); that angle as arc length at the pitch point (mm)
-  minus its cycle mean (the constant share of the backlash) is the geometric transmission
-  error, reported as max and rms;
+  penetration depth — with scipy ``brentq``, in the window); that angle as arc length at the
+  pitch point (mm) minus its cycle mean (the constant share of the backlash) is the
+  geometric transmission error, reported as max and rms; the raw angle is kept
+  (``driven_error``) for rebuilding a train from the parts;
 - **backlash**: the same search forwards; backlash is the arc between the two contacts;
 - **contact**: with the driving flanks closed up, the number of separate places where the
   outlines are within ``contact_tol`` — never zero for a working pair; its mean over the
@@ -18,7 +24,18 @@ few small polygon operations):
 
 Placement follows the ``pitch.pair`` conventions: the driver turns clockwise about the
 origin, the driven centre is at (a, 0); an external driven gear's body frame is turned by π
-at the start and turns counter-clockwise; an internal one turns clockwise with the driver.
+at the start and turns counter-clockwise; an internal one (the ring drives) turns clockwise
+with the driver.
+
+**Trains** (:func:`train_check`): the seed-004 train rebuilt with the planet attitude taken
+from the geometric meshing of the parts (the design contact angle plus the measured
+``driven_error``) instead of the pitch curves; the report is the needle-tip distance from the
+designed trajectory at every meshing step.
+
+**Cams** (:func:`follower_check`): the follower is pressed onto the made cam contour at each
+cam angle (roller followers: the roller position where it just touches the contour, by
+``brentq``; flat-faced: the contour's support point) and its motion is compared with the
+prescribed law.
 
 Examples
 --------
@@ -27,6 +44,7 @@ See ``tests/test_validate.py``.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -34,9 +52,22 @@ import numpy as np
 import shapely
 from scipy import optimize
 
-from transplanter.errors import SpecError
+from transplanter.errors import GeometryError, SpecError
 
-__all__ = ["MeshReport", "mesh_check"]
+__all__ = [
+    "MeshReport",
+    "mesh_check",
+    "backlash_band",
+    "TrainReport",
+    "train_check",
+    "FollowerReport",
+    "follower_check",
+]
+
+#: overlap area (mm²) that counts as interference: the outlines are exact to 0.25 µm chords,
+#: so a zero-backlash pair overlaps by ~1e-4 mm² over a few teeth; real interference of a
+#: module-0.4 tooth tip 10 µm deep is already ~3e-3 mm²
+PENETRATION_TOL = 1e-3
 
 
 @dataclass(frozen=True)
@@ -44,6 +75,7 @@ class MeshReport:
     """Meshing figures over a cycle (arrays per step, summaries as properties)."""
 
     driver_angle: np.ndarray = field(repr=False)
+    #: overlap area of the whole outlines, mm²
     penetration: np.ndarray = field(repr=False)
     transmission_error: np.ndarray = field(repr=False)
     backlash: np.ndarray = field(repr=False)
@@ -51,10 +83,23 @@ class MeshReport:
     #: mean driving-flank contact offset (mm at the driven pitch point): half the backlash
     #: for symmetric tooth thinning; the transmission error is measured from it
     offset: float = 0.0
+    #: overlap area further than the window from the pitch point, mm²
+    fouling: np.ndarray = field(default=None, repr=False)
+    #: distance of the largest overlap from the pitch point, mm (0 where none)
+    overlap_distance: np.ndarray = field(default=None, repr=False)
+    #: whose tooth tips the largest overlap is in: 1 driver, 2 driven, 0 none
+    overlap_side: np.ndarray = field(default=None, repr=False)
+    #: driven rotation at first contact of the driving flanks beyond the design angle, rad
+    driven_error: np.ndarray = field(default=None, repr=False)
+    window: float = 0.0
 
     @property
     def max_penetration(self) -> float:
         return float(self.penetration.max())
+
+    @property
+    def max_fouling(self) -> float:
+        return float(self.fouling.max())
 
     @property
     def max_transmission_error(self) -> float:
@@ -72,20 +117,53 @@ class MeshReport:
     def min_contacts(self) -> int:
         return int(self.contacts.min())
 
-    def problems(self, max_penetration: float = 1e-3, backlash: tuple[float, float] | None = None) -> list[str]:
+    def summary(self) -> dict:
+        """The figures a report carries (mm, mm², deg); overlaps below 1e-12 mm² (round-off of
+        the polygon Booleans) are reported as 0."""
+        return {
+            "steps": len(self.driver_angle),
+            "max_penetration_mm2": float(f"{self.max_penetration:.3e}") if self.max_penetration > 1e-12 else 0.0,
+            "max_fouling_mm2": float(f"{self.max_fouling:.3e}") if self.max_fouling > 1e-12 else 0.0,
+            "max_transmission_error_mm": float(f"{self.max_transmission_error:.3e}"),
+            "rms_transmission_error_mm": float(f"{self.rms_transmission_error:.3e}"),
+            "backlash_mm": [float(f"{self.backlash.min():.3e}"), float(f"{self.backlash.max():.3e}")],
+            "contact_ratio": round(self.contact_ratio, 4),
+            "min_contacts": self.min_contacts,
+        }
+
+    def problems(
+        self,
+        max_penetration: float = PENETRATION_TOL,
+        backlash: tuple[float, float] | None = None,
+        names: tuple[str, str] = ("driver", "driven"),
+    ) -> list[str]:
         """What a designer must fix, in words (empty when the pair meshes).
 
         ``max_penetration`` is the overlap-area tolerance (mm²); ``backlash`` the design band
-        (mm at the driven pitch point).
+        (mm at the driven pitch point); ``names`` what to call the two gears.
         """
         out = []
         deg = np.degrees(self.driver_angle)
-        k = int(np.argmax(self.penetration))
-        if self.penetration[k] > max_penetration:
+        near = self.penetration - self.fouling
+        k = int(np.argmax(near))
+        if near[k] > max_penetration:
+            tips, other = (names[0], names[1]) if self.overlap_side[k] == 1 else (names[1], names[0])
             out.append(
-                f"the teeth interfere: {self.penetration[k]:.3g} mm² of overlap at driver angle {deg[k]:.1f} deg "
-                f"(limit {max_penetration:g} mm²) — the centre distance, the tooth counts or the cutter do not "
-                "match the pitch curves"
+                f"the teeth interfere at the pitch point: {near[k]:.3g} mm² of overlap at driver angle "
+                f"{deg[k]:.1f} deg (limit {max_penetration:g} mm²), the {tips}'s tooth tips in the {other}'s "
+                "flanks — the centre distance, the tooth counts or the cutter do not match the pitch curves, "
+                f"or the {tips}'s addendum is too long for the {other}'s tooth count (shorten it: "
+                "generate(..., addendum=...))"
+            )
+        k = int(np.argmax(self.fouling))
+        if self.fouling[k] > max_penetration:
+            tips = names[0] if self.overlap_side[k] == 1 else names[1]
+            out.append(
+                f"the teeth foul {self.overlap_distance[k]:.1f} mm from the pitch point: {self.fouling[k]:.3g} mm² of "
+                f"overlap at driver angle {deg[k]:.1f} deg (limit {max_penetration:g} mm²), the {tips}'s tips hitting "
+                "teeth that are entering or leaving mesh — the pitch curves stay within the teeth's reach too long "
+                "while the ratio changes; use a finer module, shorter teeth or a pitch curve with a smaller pressure "
+                "deviation"
             )
         k = int(np.argmin(self.contacts))
         if self.contacts[k] == 0:
@@ -100,7 +178,7 @@ class MeshReport:
             if self.backlash[k] < lo or self.backlash[j] > hi:
                 out.append(
                     f"backlash {self.backlash[k]:.4g}..{self.backlash[j]:.4g} mm leaves the design band "
-                    f"{lo:g}..{hi:g} mm (at driver angles {deg[k]:.1f} and {deg[j]:.1f} deg)"
+                    f"{lo:.4g}..{hi:.4g} mm (at driver angles {deg[k]:.1f} and {deg[j]:.1f} deg)"
                 )
         return out
 
@@ -123,6 +201,20 @@ def _place(poly, angle, shift):
     return shapely.affinity.translate(shapely.affinity.rotate(poly, angle, origin=(0, 0), use_radians=True), *shift)
 
 
+def _coprime(steps: int, teeth: int | None) -> int:
+    if teeth is None:
+        return steps
+    while math.gcd(steps, int(teeth)) > 1:
+        steps += 1
+    return steps
+
+
+def _polygon(name: str, poly):
+    if not isinstance(poly, shapely.Polygon | shapely.MultiPolygon) or poly.is_empty or not poly.is_valid:
+        raise GeometryError(f"{name} must be a valid, non-empty shapely polygon (the gear outline)")
+    return poly
+
+
 def mesh_check(
     pair,
     driver_polygon,
@@ -131,31 +223,49 @@ def mesh_check(
     steps: int = 120,
     window: float = 4.0,
     contact_tol: float = 2e-3,
+    teeth: int | None = None,
 ) -> MeshReport:
     """Mesh ``driver_polygon`` and ``driven_polygon`` (body frames) per ``pair``'s design ratio.
 
-    ``window`` (modules) is the half-size of the square around the pitch point that is
-    examined; ``contact_tol`` (mm) the gap that counts as contact.
+    ``window`` (modules) is the half-size of the square around the pitch point where the
+    contact is searched and overlap counts as interference at the pitch point rather than
+    fouling; ``contact_tol`` (mm) the gap that counts as contact; ``teeth`` the driver's tooth
+    count (``steps`` is raised until coprime with it).
     """
     if not isinstance(steps, int) or steps < 4:
         raise SpecError.out_of_range("steps", steps, "an integer >= 4")
+    if getattr(pair, "ring", None) == "driven":
+        raise SpecError("mesh_check needs the ring as driver for internal pairs (GearPair.from_driver(ring, ...))")
+    driver_polygon = _polygon("driver_polygon", driver_polygon)
+    driven_polygon = _polygon("driven_polygon", driven_polygon)
+    steps = _coprime(steps, teeth)
     a = pair.centre_distance
-    external = pair.mesh.value == "external"
+    external = pair.ring is None
     half = window * module
     phi1 = 2 * math.pi * np.arange(steps) / steps
     r1 = pair.driver.r(phi1)
     theta2 = pair.driven_rotation(phi1)
-    r2 = np.where(external, a - r1, r1 - a)
-    pen, te, bl, nc = (np.zeros(steps) for _ in range(4))
+    r2 = np.abs(a - r1) if external else r1 - a
+    pen, foul, dist, te, bl, nc = (np.zeros(steps) for _ in range(6))
+    side = np.zeros(steps, dtype=np.int8)
     for k in range(steps):
         px = float(r1[k])
         box = shapely.box(px - half, -half, px + half, half)
-        drv = shapely.intersection(_place(driver_polygon, -phi1[k], (0.0, 0.0)), box)
+        drv_full = _place(driver_polygon, -phi1[k], (0.0, 0.0))
+        drv = shapely.intersection(drv_full, box)
         shapely.prepare(drv)
 
-        def driven(delta, k=k, box=box):
-            ang = (math.pi + theta2[k] + delta) if external else (-theta2[k] - delta)
-            return shapely.intersection(_place(driven_polygon, ang, (a, 0.0)), box)
+        ang0 = (math.pi + theta2[k]) if external else -theta2[k]
+        whole = _place(driven_polygon, ang0, (a, 0.0))
+        span = 2 * module / max(float(r2[k]), module)  # about a tooth of free play
+        # what can enter the window while the driven gear turns by up to ±span about (a, 0)
+        reach = span * (abs(px - a) + 2 * half) + module
+        local = shapely.clip_by_rect(whole, px - half - reach, -half - reach, px + half + reach, half + reach)
+        turn = 1.0 if external else -1.0
+
+        def driven(delta, local=local, box=box, turn=turn):
+            moved = shapely.affinity.rotate(local, turn * delta, origin=(a, 0.0), use_radians=True)
+            return shapely.intersection(moved, box)
 
         def gap(delta, drv=drv):
             g = driven(delta)
@@ -163,21 +273,187 @@ def mesh_check(
                 return float(shapely.distance(drv, g))
             return -_depth(drv, g)
 
-        pen[k] = shapely.intersection(drv, driven(0.0)).area
-        span = 2 * module / max(float(r2[k]), module)  # about a tooth of free play
+        # interference anywhere: the driver clipped to the driven gear's extent
+        overlap = shapely.intersection(shapely.clip_by_rect(drv_full, *whole.bounds), whole)
+        pieces = [g for g in getattr(overlap, "geoms", [overlap]) if g.area > 0]
+        if pieces:
+            pen[k] = overlap.area
+            foul[k] = pen[k] - shapely.intersection(overlap, box).area
+            big = max(pieces, key=lambda g: g.area)
+            cx, cy = big.centroid.x, big.centroid.y
+            dist[k] = math.hypot(cx - px, cy)
+            body = math.atan2(cy, cx) + phi1[k]  # polar angle in the driver body
+            beyond = math.hypot(cx, cy) > float(pair.driver.r(body))
+            side[k] = 1 if beyond == external else 2
         found = []
+        at_design = gap(0.0)
         for sign in (-1.0, 1.0):  # first contact backwards (driving flanks) and forwards (coast)
-            if gap(0.0) <= 0:  # already touching at the design angle
+            if at_design <= 0:  # already touching at the design angle
                 found.append(0.0)
             elif gap(sign * span) > 0:
                 found.append(sign * span)
             else:
-                found.append(optimize.brentq(gap, 0.0, sign * span, xtol=1e-12))
-        te[k] = found[0] * float(r2[k])
+                found.append(optimize.brentq(gap, 0.0, sign * span, xtol=1e-10 / max(float(r2[k]), module)))
+        te[k] = found[0]
         bl[k] = (found[1] - found[0]) * float(r2[k])
         # tooth pairs in contact with the driving flanks closed up
         near = shapely.intersection(drv.buffer(contact_tol, quad_segs=2), driven(found[0]))
         nc[k] = len(getattr(near, "geoms", [near])) if not near.is_empty else 0
-    offset = float(te.mean())
-    te = te - offset
-    return MeshReport(phi1, pen, te, bl, nc, offset)
+    arc = te * r2
+    offset = float(arc.mean())
+    return MeshReport(phi1, pen, arc - offset, bl, nc, offset, foul, dist, side, te, half)
+
+
+def backlash_band(pair, thickening: float, n: int = 2048, tol: float = 2e-3) -> tuple[float, float]:
+    """Design band (mm at the driven pitch point) for teeth thinned by ``thickening`` per gear.
+
+    Each gear's space is widened by ``thickening`` along the pitch curve, so the tangential
+    play is ``2 thickening``; turning the driven gear moves its pitch point across the radius,
+    which is ``1/cos ν`` longer than along the tangent (ν the driven pitch curve's pressure
+    deviation): the band is ``[0.9 · 2c - tol, 2c / cos ν_max · 1.1 + tol]`` — the 10 % and
+    ``tol`` (2 µm) cover the outlines' chord error and the flank curvature across the play.
+    """
+    psi = 2 * math.pi * np.arange(n) / n
+    nu = float(np.max(np.abs(pair.driven.pressure_deviation(psi))))
+    c = 2 * abs(thickening)
+    return 0.9 * c - tol, c / math.cos(nu) * 1.1 + tol
+
+
+@dataclass(frozen=True)
+class _MeshedPair:
+    """A pair whose driven contact angle comes from the parts' geometric meshing."""
+
+    pair: object
+    angle: np.ndarray
+    error: np.ndarray
+
+    @property
+    def centre_distance(self) -> float:
+        return self.pair.centre_distance
+
+    @property
+    def lobes(self) -> tuple[int, int]:
+        return self.pair.lobes
+
+    @property
+    def ring(self) -> str | None:
+        return self.pair.ring
+
+    def ratio(self, phi1):
+        return self.pair.ratio(phi1)
+
+    def driven_contact_angle(self, phi1):
+        phi1 = np.asarray(phi1, dtype=float)
+        extra = np.interp(np.mod(phi1, 2 * math.pi), self.angle, self.error, period=2 * math.pi)
+        return self.pair.driven_contact_angle(phi1) + self.pair.contact_sense * extra
+
+
+@dataclass(frozen=True)
+class TrainReport:
+    """Needle-tip path of the train rebuilt from the parts against the designed one."""
+
+    theta: np.ndarray = field(repr=False)
+    deviation: np.ndarray = field(repr=False)
+    attitude_error: np.ndarray = field(repr=False)
+
+    @property
+    def max_deviation(self) -> float:
+        return float(self.deviation.max())
+
+    def summary(self) -> dict:
+        return {
+            "samples": len(self.theta),
+            "carrier_turns": round(float(np.ptp(self.theta)) / (2 * math.pi), 3),
+            "max_tip_deviation_mm": float(f"{self.max_deviation:.3e}"),
+            "rms_tip_deviation_mm": float(f"{np.sqrt(np.mean(self.deviation**2)):.3e}"),
+            "max_needle_attitude_error_deg": float(f"{math.degrees(np.max(np.abs(self.attitude_error))):.3e}"),
+        }
+
+
+def train_check(train, report: MeshReport) -> TrainReport:
+    """Rebuild ``train`` (a ``planetary.DifferentialTrain``) with the planet attitude from the
+    parts' meshing in ``report`` (from :func:`mesh_check` of its ring and planet) and compare the
+    needle tip with the designed one at every meshing step (ring body angle → carrier angle)."""
+    pair = train.pair
+    meshed = dataclasses.replace(train, pair=_MeshedPair(pair, report.driver_angle, report.driven_error))
+    # arm I's contact is at ring body angle -(1 - ω1/ω2) θ
+    theta = (2 * math.pi - report.driver_angle) / (1.0 - train.speed_ratio)
+    design, made = train.state(theta), meshed.state(theta)
+    dev = np.linalg.norm(made.tip - design.tip, axis=1)
+    att = np.angle(np.exp(1j * (made.attitude - design.attitude)))
+    return TrainReport(theta, dev, att)
+
+
+@dataclass(frozen=True)
+class FollowerReport:
+    """Follower motion on the made cam contour against the prescribed law."""
+
+    theta: np.ndarray = field(repr=False)
+    prescribed: np.ndarray = field(repr=False)
+    actual: np.ndarray = field(repr=False)
+    #: error as displacement at the roller centre (or face), mm
+    error: np.ndarray = field(repr=False)
+    unit: str = "mm"
+
+    @property
+    def max_error(self) -> float:
+        return float(np.max(np.abs(self.error)))
+
+    def summary(self) -> dict:
+        return {
+            "samples": len(self.theta),
+            "max_error_mm": float(f"{self.max_error:.3e}"),
+            "rms_error_mm": float(f"{np.sqrt(np.mean(self.error**2)):.3e}"),
+            "stroke": float(f"{np.ptp(self.prescribed):.6g}"),
+            "stroke_unit": self.unit,
+        }
+
+
+def follower_check(contour, motion, follower, n: int = 720) -> FollowerReport:
+    """Press ``follower`` onto the made cam ``contour`` (shapely polygon, cam frame) at ``n``
+    cam angles and compare its position with ``motion`` (the law the cam was designed for).
+
+    Roller followers: the follower coordinate s at which the roller just touches the contour
+    (signed roller-centre distance minus roller radius = 0, ``brentq`` within ±10 % of the
+    stroke plus 1 mm of the law). Flat-faced: the contour's support height minus the base
+    radius. The cam turns counter-clockwise by θ (``cams`` conventions).
+    """
+    from transplanter import cams
+
+    contour = _polygon("contour", contour)
+    if not isinstance(n, int) or n < 8:
+        raise SpecError.out_of_range("n", n, "an integer >= 8")
+    theta = 2 * math.pi * np.arange(n) / n
+    law = np.asarray(motion(theta), dtype=float)
+    boundary = contour.exterior
+    shapely.prepare(boundary)
+    actual = np.empty(n)
+    if isinstance(follower, cams.FlatFacedFollower):
+        pts = shapely.get_coordinates(boundary)
+        for k, t in enumerate(theta):  # support height along the follower's +y in the cam frame
+            actual[k] = float(np.max(pts[:, 0] * math.sin(t) + pts[:, 1] * math.cos(t))) - follower.base_radius
+        return FollowerReport(theta, law, actual, actual - law)
+    if not isinstance(follower, cams.OscillatingRollerFollower | cams.TranslatingRollerFollower):
+        raise SpecError(f"unknown follower type {type(follower).__name__}")
+    rr = follower.roller_radius
+    span = 0.1 * float(np.ptp(law)) + (1.0 / follower.arm_length if hasattr(follower, "arm_length") else 1.0)
+
+    def gap(s, t):
+        x, y = cams.roller_centre(follower, s, t)[0]
+        d = float(shapely.distance(boundary, shapely.Point(x, y)))
+        return (d if not shapely.contains_xy(contour, x, y) else -d) - rr
+
+    for k, t in enumerate(theta):
+        lo, hi = law[k] - span, law[k] + span
+        if gap(lo, t) > 0 or gap(hi, t) < 0:
+            raise GeometryError(
+                f"the follower does not reach the cam contour near θ = {math.degrees(t):.1f} deg within ±{span:.3g} "
+                "of the law — the contour is not this cam's"
+            )
+        actual[k] = optimize.brentq(gap, lo, hi, args=(t,), xtol=1e-12)
+    err = actual - law
+    unit = "mm"
+    if isinstance(follower, cams.OscillatingRollerFollower):
+        err = err * follower.arm_length  # swing error as displacement at the roller
+        unit = "rad"
+    return FollowerReport(theta, law, actual, err, unit)

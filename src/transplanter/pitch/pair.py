@@ -340,6 +340,11 @@ class GearPair:
             return None
         return "driver" if self._conj.c0 < 0 else "driven"
 
+    @property
+    def contact_sense(self) -> int:
+        """+1 if the driven contact angle grows with the driven rotation (internal), -1 if not."""
+        return int(self._conj.sigma)
+
     def ratio(self, phi1) -> np.ndarray:
         """ω2/ω1 = r1/r2 at driver rotation ``phi1`` (rad)."""
         return self._conj.ratio(np.asarray(phi1, dtype=float))
