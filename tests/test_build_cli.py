@@ -6,6 +6,7 @@ import os
 from pathlib import Path
 
 import pytest
+import shapely
 
 from transplanter import cli
 from transplanter.errors import ExportError, PartScriptError
@@ -22,17 +23,24 @@ def _tree_hashes(root: Path) -> dict[str, str]:
     }
 
 
-def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir):
-    a, b = tmp_path / "a", tmp_path / "b"
-    assert cli.main(["build", "--parts", str(parts_dir), "-o", str(a)]) == 0
+@pytest.fixture(scope="session")
+def built(tmp_path_factory, parts_dir) -> Path:
+    """Every seed family built once (in two processes), for the tests that read exports."""
+    out = tmp_path_factory.mktemp("exports")
+    assert cli.main(["build", "--parts", str(parts_dir), "-o", str(out), "--jobs", "2"]) == 0
+    return out
+
+
+def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir, built):
+    a, b = built, tmp_path / "b"
     assert cli.main(["build", "--parts", str(parts_dir), "-o", str(b)]) == 0
     ha, hb = _tree_hashes(a), _tree_hashes(b)
     assert ha == hb
     for fam in ("planetary_seed004", "potseedling_seed002"):
-        page = (a / fam / "report.html").read_text()
-        assert "<img src=" in page and ".dxf" in page
+        assert "<img src=" in (a / fam / "report.html").read_text()
+    assert ".dxf" in (a / "potseedling_seed002" / "report.html").read_text()
     stls = sorted(a.rglob("*.stl"))
-    assert len(stls) >= 7  # seed-004 ring and planet, seed-002 four gears and the cam
+    assert len(stls) >= 5  # seed-002 four gears and the cam (seed 004's fouling pair has none)
     if admesh_available():
         for path in stls:
             assert_admesh_clean(path)
@@ -183,3 +191,71 @@ def test_optimise_command_is_reproducible(tmp_path, capsys):
 def test_optimise_needs_a_problem(parts_dir, capsys):
     assert cli.main(["optimise", str(parts_dir / "fourbar_seed001.py")]) == 2
     assert "must define problem()" in capsys.readouterr().err
+
+
+def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
+    seed002 = json.loads((built / "potseedling_seed002" / "manifest.json").read_text())
+    for name in ("gears_2_3", "gears_3_5"):
+        meshing = seed002["parts"][name]["results"]["meshing"]
+        assert set(meshing) >= {"outline", "dxf", "stl"}
+        for source in ("outline", "dxf", "stl"):
+            r = meshing[source]
+            assert r["problems"] == [] and r["min_contacts"] >= 2
+            assert r["max_penetration_mm2"] < 1e-3 and r["max_transmission_error_mm"] < 2e-3
+        assert f"{name}.meshing.png" in seed002["parts"][name]["files"]
+    cam = seed002["parts"]["swing_cam"]["results"]["follower_check"]
+    assert set(cam) >= {"profile", "dxf", "stl"}
+    assert all(cam[s]["max_error_mm"] < 5e-3 for s in ("profile", "dxf", "stl"))
+    seed004 = json.loads((built / "planetary_seed004" / "manifest.json").read_text())
+    teeth = seed004["parts"]["ring_planet_teeth"]
+    assert teeth["results"]["shop_files"].startswith("withheld")
+    assert not any(f.endswith((".dxf", ".stl")) for f in teeth["files"])
+    outline = teeth["results"]["meshing"]["outline"]
+    assert outline["problems"][0].startswith("the teeth foul") and outline["max_fouling_mm2"] > 0.1
+    assert outline["train"]["max_tip_deviation_mm"] < 0.01
+    page = (built / "planetary_seed004" / "report.html").read_text()
+    assert "ring_planet_teeth.meshing.png" in page and "max_fouling_mm2" in page
+
+
+def test_check_command_reruns_the_checks_on_disk(built, capsys):
+    folders = [str(built / f) for f in ("planetary_seed004", "potseedling_seed002", "fourbar_seed000")]
+    assert cli.main(["check", *folders]) == 0
+    out = capsys.readouterr().out
+    assert "gears_2_3 [stl]: overlap" in out and "swing_cam [dxf]: follower error" in out
+    assert "train tip deviation" in out and "finding (expected): outline: the teeth foul" in out
+    assert "no meshing parts or cams in this family" in out
+
+
+SMALL_PAIR = """
+from transplanter.cutter import ShaperCutter
+from transplanter.families import Family, Making, ToothedPairStudy
+from transplanter.pitch import GearPair, PitchCurve
+from transplanter.solids import Features
+
+
+def family():
+    pair, sizing = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.15, 2), "external", 2).sized(module=3.0)
+    making = (Making(6.0, Features(bore=8.0)),) * 2
+    study = ToothedPairStudy("pair", pair, ShaperCutter(16, 3.0), sizing.teeth[0], making=making)
+    return Family("small", "an elliptical pair", (study,))
+"""
+
+
+def test_check_command_catches_a_tampered_part(tmp_path, capsys):
+    from transplanter import dxf
+
+    script = tmp_path / "small.py"
+    script.write_text(SMALL_PAIR)
+    assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 0
+    fam = tmp_path / "out" / "small"
+    assert cli.main(["check", str(fam)]) == 0
+    path = fam / "pair.driven.dxf"
+    moved = shapely.affinity.rotate(dxf.read_section(path.read_bytes()), 2.0, origin=(0, 0))  # 2 deg off
+    path.write_bytes(dxf.dxf_bytes(dxf.DxfPart("pair.driven", moved)))
+    assert cli.main(["check", str(fam)]) == 1
+    out = capsys.readouterr().out
+    assert "file pair.driven.dxf: changed since the build" in out
+    assert "pair: PROBLEM: dxf: the teeth interfere at the pitch point" in out and "FAILED" in out
+    (fam / "manifest.json").unlink()
+    assert cli.main(["check", str(fam)]) == 2
+    assert "is not a built family folder" in capsys.readouterr().err

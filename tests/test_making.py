@@ -127,3 +127,20 @@ def test_keys_and_feature_errors():
         solids.key_for(4.0)
     with pytest.raises(GeometryError, match="cut the part apart"):
         solids.part_section(shapely.Point(0, 0).buffer(10), shapely.Polygon(), solids.Features(bore=25.0))
+
+
+def test_dxf_and_stl_read_back_as_the_part_section(ellipse_gears):
+    """The meshing check reads parts back from their files: a DXF's CUT contours nest into the
+    section (holes stay holes) within the arc fit, an STL's mid-plane section within float32
+    resolution (~1e-5 mm on a 50 mm part: symmetric difference ≲ perimeter × 1e-5 mm²)."""
+    gear = ellipse_gears[0]
+    f = solids.Features(bore=16.0)
+    section = solids.part_section(gear.blank, gear.cut, f)
+    back = dxf.read_section(dxf.dxf_bytes(dxf.DxfPart("g", section)))
+    assert len(back.interiors) == len(section.interiors) == 1
+    assert shapely.symmetric_difference(back, section).area < section.length * 1e-3
+    cut = stl.section(stl.stl_bytes(solids.part_solid(gear.blank, gear.cut, f, width=8.0)))
+    assert len(cut.interiors) == 1
+    assert shapely.symmetric_difference(cut, section).area < section.length * 1e-5
+    with pytest.raises(GeometryError, match="outside the solid"):
+        stl.section(stl.stl_bytes(solids.part_solid(gear.blank, gear.cut, f, width=8.0)), z=9.0)

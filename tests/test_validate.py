@@ -1,19 +1,30 @@
-"""Meshing of the generated parts themselves: penetration, transmission error, contact.
+"""Meshing of the generated parts themselves: penetration, transmission error, contact;
+trains rebuilt from the parts; followers on the made cams.
 
 Tolerances: overlap 1e-3 mm² (zero-backlash teeth overlap only by the outlines' chord error,
 measured ~1e-4 mm² over a window); transmission error 1 µm for zero backlash (the envelope is
 exact to 0.25 µm per outline); backlash band 0.09..0.12 mm for 0.05 mm thinning per gear (the
-circumferential backlash varies with the pitch curve's pressure angle).
+circumferential backlash varies with the pitch curve's pressure angle); needle-tip deviation
+of a rebuilt train 2 µm (150 mm arm × TE/r2 ≈ 150 × 1e-4 / 15); follower on a made cam 5 µm
+(``families.FOLLOWER_TOL``), a wrong cam misses by > 50 µm.
 """
 
 import dataclasses
+import math
+import runpy
 
+import numpy as np
 import pytest
+import shapely
 
+from transplanter.cams import FlatFacedFollower, MotionProgram, OscillatingRollerFollower, disc_cam
 from transplanter.cutter import ShaperCutter
+from transplanter.errors import GeometryError
+from transplanter.families import FOLLOWER_TOL, ToothedPairStudy
 from transplanter.pitch import GearPair, PitchCurve
+from transplanter.planetary import ArmGeometry, DifferentialTrain
 from transplanter.teeth import generate, generate_pair
-from transplanter.validate import mesh_check
+from transplanter.validate import backlash_band, follower_check, mesh_check, train_check
 
 
 @pytest.fixture(scope="module")
@@ -51,3 +62,98 @@ def test_broken_pairs_are_caught(ellipse_pair):
     wrong = generate(bigger.driven.scaled(sizing.module / s2.module), ShaperCutter(20, 2.0), s2.teeth[1], phase=0.5)
     r = mesh_check(pair, g1.polygon, wrong.polygon, 2.0, steps=24)
     assert any("teeth interfere" in p for p in r.problems())
+
+
+@pytest.fixture(scope="module")
+def four_lobe_ring_pair():
+    """A 4-lobe ring (60 teeth) driving a 15-tooth planet, m = 2."""
+    return GearPair.from_driver(PitchCurve.ellipse(60.0, 0.05, 4), "internal", 1).sized(module=2.0)
+
+
+def test_ring_tips_in_a_small_planet_are_caught_and_a_shorter_addendum_cures_them(four_lobe_ring_pair):
+    """Involute interference of internal gears: with a full-depth ring addendum the 15-tooth planet's
+    flanks below its base curve are hit by the ring's tips (circular 60/15 gears at 20 deg need a
+    ring tip radius >= 58.44 mm, i.e. an addendum <= 0.78 m)."""
+    pair, sizing = four_lobe_ring_pair
+    cutter = ShaperCutter(16, 2.0)
+    planet = generate(pair.driven, cutter, sizing.teeth[1], phase=0.5)
+    full = generate(pair.driver, cutter, sizing.teeth[0], internal=True)
+    r = mesh_check(pair, full.polygon, planet.polygon, 2.0, steps=40, teeth=sizing.teeth[0])
+    (problem,) = r.problems(names=("ring", "planet"))
+    assert "at the pitch point" in problem and "the ring's tooth tips in the planet's flanks" in problem
+    assert r.max_penetration > 0.02 and r.max_fouling < 1e-9
+    short = generate(pair.driver, cutter, sizing.teeth[0], internal=True, addendum=0.7)
+    r = mesh_check(pair, short.polygon, planet.polygon, 2.0, steps=40, teeth=sizing.teeth[0])
+    assert r.problems(names=("ring", "planet")) == [] and r.min_contacts >= 2
+
+
+def test_steps_are_coprime_with_the_tooth_count(ellipse_pair):
+    pair, sizing = ellipse_pair
+    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth)
+    r = mesh_check(pair, g1.polygon, g2.polygon, 2.0, steps=sizing.teeth[0], teeth=sizing.teeth[0])
+    assert math.gcd(len(r.driver_angle), sizing.teeth[0]) == 1 and len(r.driver_angle) > sizing.teeth[0]
+
+
+def test_seed004_teeth_foul_away_from_the_pitch_point(parts_dir):
+    """The finding behind seed 004's withheld shop files: exact at the pitch point, fouling 5-15 mm away."""
+    ns = runpy.run_path(str(parts_dir / "planetary_seed004.py"))
+    pair, sizing = ns["gear_pair"]().sized(teeth=ns["FINE_RING_TEETH"])
+    ring, planet = generate_pair(pair, ns["cutter_for"](pair, ns["FINE_RING_TEETH"], 8), sizing.teeth)
+    r = mesh_check(pair, ring.polygon, planet.polygon, sizing.module, steps=48, teeth=sizing.teeth[0])
+    near = r.penetration - r.fouling
+    assert near.max() < 1e-3 and r.max_transmission_error < 1e-3  # conjugate at the pitch point
+    assert r.max_fouling > 0.1
+    k = int(np.argmax(r.fouling))
+    assert 5.0 < r.overlap_distance[k] < 15.0
+    assert any(p.startswith("the teeth foul") for p in r.problems(names=("ring", "planet")))
+
+
+def test_train_rebuilt_from_its_parts_follows_the_design(four_lobe_ring_pair):
+    """A seed-004-like train (4-lobe ring, planet, 150 mm arm) built from generated teeth: the needle
+    tip stays within 2 µm of the designed path, and the deviation is exactly the arm swung by the
+    planet's measured angle error (2 S sin(δ/2)) — the rebuild uses nothing but the parts' meshing."""
+    pair, sizing = GearPair.from_driver(PitchCurve.ellipse(80.0, 0.05, 4), "internal", 1).sized(module=1.0)
+    arm = ArmGeometry(tip=150.0, knee=80.0, mount=-0.7)
+    train = DifferentialTrain(pair, arm, carrier_start=0.7)
+    for thick, limit in ((0.0, 2e-3), (0.05, 1.0)):
+        cutter = ShaperCutter(16, sizing.module, thickening=thick)
+        ring, planet = generate_pair(pair, cutter, sizing.teeth, addendum=0.8)
+        r = mesh_check(pair, ring.polygon, planet.polygon, sizing.module, steps=60, teeth=sizing.teeth[0])
+        assert r.problems(backlash=backlash_band(pair, thick)) == []
+        t = train_check(train, r)
+        assert t.max_deviation < limit
+        np.testing.assert_allclose(t.deviation, 2 * arm.tip * np.abs(np.sin(r.driven_error / 2)), atol=1e-9)
+    assert t.max_deviation > 0.1  # 0.05 mm thinning: the planet lags by half the backlash
+
+
+def test_follower_on_the_made_cam_follows_the_law():
+    swing = MotionProgram.rise_return(
+        lift=math.radians(20), rise=math.radians(120), dwell=math.radians(60), ret=math.radians(120)
+    )
+    follower = OscillatingRollerFollower(pivot_distance=80, arm_length=50, roller_radius=8, base_radius=35)
+    cam = disc_cam(swing, follower)
+    r = follower_check(shapely.Polygon(cam.profile), swing, follower, n=180)
+    assert r.max_error < FOLLOWER_TOL / 100 and r.unit == "rad"
+    other = disc_cam(swing, dataclasses.replace(follower, base_radius=35.2))  # a cam for another follower
+    r = follower_check(shapely.Polygon(other.profile), swing, follower, n=180)
+    assert r.max_error > 10 * FOLLOWER_TOL
+    lift = MotionProgram.rise_return(lift=12.0, rise=math.radians(150), dwell=math.radians(30), ret=math.radians(150))
+    flat = FlatFacedFollower(base_radius=40.0)
+    r = follower_check(shapely.Polygon(disc_cam(lift, flat).profile), lift, flat, n=180)
+    assert r.max_error < 1e-3 and r.unit == "mm"
+
+
+def test_a_pair_that_does_not_mesh_fails_its_part(four_lobe_ring_pair, tmp_path):
+    pair, sizing = four_lobe_ring_pair
+    study = ToothedPairStudy("ring_planet", pair, ShaperCutter(16, 2.0), sizing.teeth[0])
+    with pytest.raises(
+        GeometryError, match="ring_planet: the generated teeth do not mesh: the teeth interfere at the pitch point"
+    ):
+        study.build(tmp_path)
+    too_big = ToothedPairStudy("ring_planet", pair, ShaperCutter(40, 2.0), sizing.teeth[0])
+    with pytest.raises(GeometryError, match=r"rolling radius 40 mm .* exceeds"):
+        too_big.build(tmp_path)
+    finding = dataclasses.replace(study, must_mesh=False)
+    record, files = finding.build(tmp_path)
+    assert record["results"]["shop_files"].startswith("withheld")
+    assert not any(f.endswith((".dxf", ".stl")) for f in files) and "ring_planet.meshing.png" in files
