@@ -7,8 +7,9 @@ scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the fo
 with ``--plots DIR``, writes the arms' plots. ``transplanter optimise parts/x.py --seed S``
 runs differential evolution on the script's ``problem()`` with a progress line per generation
 and prints the best parameters as JSON. ``transplanter check exports/<family>`` re-runs the
-meshing and follower checks on the files already on disk (and verifies their SHA-256
-against the manifest); it exits 1 if a part that must mesh does not.
+meshing and follower checks on the files already on disk, recomputes the analyses and
+compares their data files, and verifies every file's SHA-256 against the manifest; it exits
+1 if a part that must mesh does not, or a file is missing, changed or stale.
 Exit status: 0 on success, 1 if any part failed, 2 on bad input (message on stderr).
 """
 
@@ -151,10 +152,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
             print("  note: the part script changed since the build; checking against its current design")
         for fname, problem in sorted(rep["files"].items()):
             print(f"  file {fname}: {problem}")
-        if not rep["parts"]:
-            print("  no meshing parts or cams in this family; files checked")
         for name, part in rep["parts"].items():
             res = part["results"]
+            if "data_files_reproduced" in res:
+                print(f"  {name}: {res['data_files_reproduced']} data files reproduced by the script")
             for source, r in sorted((k, v) for k, v in res.items() if isinstance(v, dict)):
                 if "max_penetration_mm2" in r:
                     line = (
