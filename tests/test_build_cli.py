@@ -23,14 +23,6 @@ def _tree_hashes(root: Path) -> dict[str, str]:
     }
 
 
-@pytest.fixture(scope="session")
-def built(tmp_path_factory, parts_dir) -> Path:
-    """Every seed family built once (in two processes), for the tests that read exports."""
-    out = tmp_path_factory.mktemp("exports")
-    assert cli.main(["build", "--parts", str(parts_dir), "-o", str(out), "--jobs", "2"]) == 0
-    return out
-
-
 def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir, built):
     a, b = built, tmp_path / "b"
     assert cli.main(["build", "--parts", str(parts_dir), "-o", str(b)]) == 0
@@ -234,9 +226,9 @@ from transplanter.solids import Features
 
 
 def family():
-    pair, sizing = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.15, 2), "external", 2).sized(module=3.0)
+    pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.15, 2), "external", 2).sized(module=2.0)
     making = (Making(6.0, Features(bore=8.0)),) * 2
-    study = ToothedPairStudy("pair", pair, ShaperCutter(16, 3.0), sizing.teeth[0], making=making)
+    study = ToothedPairStudy("pair", pair, ShaperCutter(12, 2.0), sizing.teeth[0], making=making)
     return Family("small", "an elliptical pair", (study,))
 """
 

@@ -1,5 +1,6 @@
 """Seed-004 differential planetary train: kinematics, reading, agronomic metrics."""
 
+import json
 import math
 import runpy
 
@@ -12,7 +13,6 @@ from scipy import integrate
 
 from transplanter.agronomy import segment_distance, transplanting_metrics
 from transplanter.errors import SpecError
-from transplanter.families import build_family, load_family
 from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 
@@ -145,9 +145,8 @@ def test_segment_distance_matches_shapely(c):
     assert ours == pytest.approx(ref, abs=1e-9)
 
 
-def test_seed004_family_builds(parts_dir, tmp_path):
-    fam = load_family(parts_dir / "planetary_seed004.py")
-    manifest = build_family(fam, tmp_path)
+def test_seed004_family_builds(built):
+    manifest = json.loads((built / "planetary_seed004" / "manifest.json").read_text())
     assert manifest["ok"], manifest
     res = manifest["parts"]["transplanting_train"]["results"]
     assert res["metrics"]["picking angle"]["published"] == 342.0
@@ -156,7 +155,7 @@ def test_seed004_family_builds(parts_dir, tmp_path):
     assert max(heights) - min(heights) < 7  # r11 and the spline degree move the height by < 7 mm
     pitch = manifest["parts"]["ring_planet_pitch"]["results"]
     assert pitch["driver"]["teeth"] == 80 and pitch["driven"]["teeth"] == 20
-    assert (tmp_path / "planetary_seed004" / "transplanting_train.trajectory.png").stat().st_size > 10_000
+    assert (built / "planetary_seed004" / "transplanting_train.trajectory.png").stat().st_size > 10_000
     teeth = manifest["parts"]["ring_planet_teeth"]["results"]
     assert teeth["driver"]["teeth"] == 560 and teeth["driven"]["teeth"] == 140
     assert teeth["driver"]["undercut_mm"] == 0.0 and teeth["driver"]["internal"]

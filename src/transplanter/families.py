@@ -428,6 +428,9 @@ def _manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], 
     for version in making.dxf_versions:
         data = dxf.dxf_bytes(dxf.DxfPart(stem, section, notes), version)
         back = dxf.read_contours(data)
+        crossing = [shapely.is_valid_reason(shapely.Polygon(c)) for c in back if not shapely.Polygon(c).is_valid]
+        if crossing:
+            raise GeometryError(f"{stem}: a DXF contour is not a simple closed curve after the arc fit: {crossing[0]}")
         dev = max(dxf.contour_deviation(src, _matching(src, back)) for src in rings)
         results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": float(f"{dev:.3e}")}
         if dev > 1e-3:

@@ -286,13 +286,32 @@ def _check_cutter_fits(frame: ArcFrame, cutter: ShaperCutter, internal: bool, sh
         )
 
 
+def _despike(points: np.ndarray, length: float) -> np.ndarray:
+    """Drop vertices where the path turns back (> 90°) on a segment shorter than ``length``.
+
+    Where two pieces of the envelope meet (flank and fillet) the sampled path can overshoot by
+    a micrometre and come back: a zero-area spike that is a valid polygon but turns into a
+    self-crossing once the DXF fits arcs through it.
+    """
+    pts = np.asarray(points, dtype=float)
+    while len(pts) > 3:
+        u = pts[1:-1] - pts[:-2]
+        v = pts[2:] - pts[1:-1]
+        short = np.minimum(np.linalg.norm(u, axis=1), np.linalg.norm(v, axis=1)) < length
+        back = np.flatnonzero(short & (np.einsum("ij,ij->i", u, v) < 0)) + 1
+        if back.size == 0:
+            break
+        pts = np.delete(pts, back[::2], axis=0)  # every other one, then look again
+    return pts
+
+
 def _space_polygons(y, s_centres, frame, side, module):
     _, _, nrm, _ = frame.at(s_centres)
     ext = 3.0 * module
     polys = []
     for j in range(y.shape[0]):
         out = side * nrm[j] * ext
-        ring = np.concatenate([[y[j, 0] + out], y[j], [y[j, -1] + out]])
+        ring = np.concatenate([[y[j, 0] + out], _despike(y[j], 20 * CHORD_TOLERANCE), [y[j, -1] + out]])
         poly = shapely.Polygon(ring)
         if not poly.is_valid:
             poly = shapely.make_valid(poly, method="structure", keep_collapsed=False)
