@@ -210,12 +210,15 @@ def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
 
 
 def test_check_command_reruns_the_checks_on_disk(built, capsys):
-    folders = [str(built / f) for f in ("planetary_seed004", "potseedling_seed002", "fourbar_seed000")]
+    folders = [str(p) for p in sorted(built.iterdir())]  # every seed family
+    assert len(folders) == 5
     assert cli.main(["check", *folders]) == 0
     out = capsys.readouterr().out
     assert "gears_2_3 [stl]: overlap" in out and "swing_cam [dxf]: follower error" in out
     assert "train tip deviation" in out and "finding (expected): outline: the teeth foul" in out
     assert "mechanism_B: 2 data files reproduced by the script" in out
+    assert "type_II:" in out and "eight_row_arm:" in out and "transplanting_train:" in out
+    assert out.count("  ok\n") == 5
 
 
 SMALL_PAIR = """

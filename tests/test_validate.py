@@ -21,7 +21,7 @@ from transplanter.cams import FlatFacedFollower, MotionProgram, OscillatingRolle
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError
 from transplanter.families import FOLLOWER_TOL, ToothedPairStudy
-from transplanter.pitch import GearPair, PitchCurve
+from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 from transplanter.teeth import generate, generate_pair
 from transplanter.validate import backlash_band, follower_check, mesh_check, train_check
@@ -157,3 +157,27 @@ def test_a_pair_that_does_not_mesh_fails_its_part(four_lobe_ring_pair, tmp_path)
     record, files = finding.build(tmp_path)
     assert record["results"]["shop_files"].startswith("withheld")
     assert not any(f.endswith((".dxf", ".stl")) for f in files) and "ring_planet.meshing.png" in files
+
+
+def test_planet_driven_ring_agrees_with_the_circular_interference_limit():
+    """A 30-tooth pinion driving a 60-tooth ring (m = 2, 20 deg), both cut by a 16-tooth cutter.
+
+    Closed form: the cutter's tip (1.25 m) ends the pinion's involute at its form radius; the
+    ring's tip circle meets the line of action at a pinion radius that must not be below it.
+    The check must flag the full ring addendum and pass one below the limit (0.80 m here).
+    """
+    m, alpha = 2.0, math.radians(20.0)
+    rb1, rb2, rbc = 30 * math.cos(alpha), 60 * math.cos(alpha), 16 * math.cos(alpha)
+    t1t2 = (30 + 16) * math.sin(alpha)  # pinion-cutter: tangency points apart on the line of action
+    form = math.hypot(rb1, t1t2 - math.sqrt((16 + 1.25 * m) ** 2 - rbc**2))
+    # ring tip radius r_a reaches the pinion at radius hypot(rb1, sqrt(r_a² - rb2²) - 30 sin α)
+    limit = (60 - math.hypot(rb2, 30 * math.sin(alpha) + math.sqrt(form**2 - rb1**2))) / m
+    assert 0.75 < limit < 1.0
+    pair, _ = GearPair.from_ratio(Constant(0.5), 30.0, "internal", ring="driven").sized(module=m)
+    cutter = ShaperCutter(16, m)
+    pinion = generate(pair.driver, cutter, 30)
+    for addendum, fails in ((1.0, True), (0.75, False)):
+        ring = generate(pair.driven, cutter, 60, internal=True, phase=0.5, addendum=addendum)
+        r = mesh_check(pair, pinion.polygon, ring.polygon, m, steps=20, teeth=30)
+        assert bool(r.problems()) is fails, (addendum, r.summary())
+    assert r.min_contacts >= 2

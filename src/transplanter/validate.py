@@ -23,8 +23,9 @@ the contours re-read from the DXF, or a mid-plane section of the STL — are com
   cycle is the geometric contact ratio (both flanks count when there is no backlash).
 
 Placement follows the ``pitch.pair`` conventions: the driver turns clockwise about the
-origin, the driven centre is at (a, 0); an external driven gear's body frame is turned by π
-at the start and turns counter-clockwise; an internal one (the ring drives) turns clockwise
+origin, the driven centre is at (a, 0) — (-a, 0) for a driven ring, which encloses the
+planet; an external driven gear's body frame is turned by π at the start and turns
+counter-clockwise; an internal one (ring or planet) turns clockwise
 with the driver.
 
 **Trains** (:func:`train_check`): the seed-004 train rebuilt with the planet attitude taken
@@ -223,18 +224,18 @@ def mesh_check(
     """
     if not isinstance(steps, int) or steps < 4:
         raise SpecError.out_of_range("steps", steps, "an integer >= 4")
-    if getattr(pair, "ring", None) == "driven":
-        raise SpecError("mesh_check needs the ring as driver for internal pairs (GearPair.from_driver(ring, ...))")
     driver_polygon = _polygon("driver_polygon", driver_polygon)
     driven_polygon = _polygon("driven_polygon", driven_polygon)
     steps = _coprime(steps, teeth)
     a = pair.centre_distance
     external = pair.ring is None
+    ring_drives = pair.ring == "driver"
+    centre = -a if pair.ring == "driven" else a  # a driven ring's centre is beyond the planet's
     half = window * module
     phi1 = 2 * math.pi * np.arange(steps) / steps
     r1 = pair.driver.r(phi1)
     theta2 = pair.driven_rotation(phi1)
-    r2 = np.abs(a - r1) if external else r1 - a
+    r2 = np.abs(r1 - centre)
     pen, foul, dist, te, bl, nc = (np.zeros(steps) for _ in range(6))
     side = np.zeros(steps, dtype=np.int8)
     for k in range(steps):
@@ -245,15 +246,15 @@ def mesh_check(
         shapely.prepare(drv)
 
         ang0 = (math.pi + theta2[k]) if external else -theta2[k]
-        whole = _place(driven_polygon, ang0, (a, 0.0))
+        whole = _place(driven_polygon, ang0, (centre, 0.0))
         span = 2 * module / max(float(r2[k]), module)  # about a tooth of free play
         # what can enter the window while the driven gear turns by up to ±span about (a, 0)
-        reach = span * (abs(px - a) + 2 * half) + module
+        reach = span * (abs(px - centre) + 2 * half) + module
         local = shapely.clip_by_rect(whole, px - half - reach, -half - reach, px + half + reach, half + reach)
         turn = 1.0 if external else -1.0
 
         def driven(delta, local=local, box=box, turn=turn):
-            moved = shapely.affinity.rotate(local, turn * delta, origin=(a, 0.0), use_radians=True)
+            moved = shapely.affinity.rotate(local, turn * delta, origin=(centre, 0.0), use_radians=True)
             return shapely.intersection(moved, box)
 
         def gap(delta, drv=drv):
@@ -279,7 +280,7 @@ def mesh_check(
             dist[k] = math.hypot(cx - px, cy)
             body = math.atan2(cy, cx) + phi1[k]  # polar angle in the driver body
             beyond = math.hypot(cx, cy) > float(pair.driver.r(body))
-            side[k] = 1 if beyond == external else 2
+            side[k] = 1 if beyond != ring_drives else 2  # a gear's tips are beyond its pitch curve, a ring's inside
         found = []
         at_design = gap(0.0)
         rho = max(float(r2[k]), module)
