@@ -12,7 +12,8 @@ import shapely
 from transplanter import dxf, solids, stl
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError
-from transplanter.families import Making, _manufacture
+from transplanter.families import Making
+from transplanter.families.making import manufacture
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.teeth import generate, generate_pair
 from transplanter.testing import admesh_available, assert_admesh_clean
@@ -108,8 +109,8 @@ def test_wire_violation_names_the_tooth(ellipse_gears):
     gear = ellipse_gears[0]
     making = Making(width=5.0, wire=(1.0, 0.05))  # a 1 mm wire cannot reach 0.4 mm root fillets
     with pytest.raises(GeometryError, match=r"g: an inside corner at tooth space \d+ is tighter than the wire radius"):
-        _manufacture("g", gear.blank, gear.cut, making, (), lambda pt: f"tooth space {gear.nearest_space(pt)}")
-    res, files = _manufacture("g", gear.blank, gear.cut, Making(width=5.0), (), lambda pt: "?")
+        manufacture("g", gear.blank, gear.cut, making, (), lambda pt: f"tooth space {gear.nearest_space(pt)}")
+    res, files = manufacture("g", gear.blank, gear.cut, Making(width=5.0), (), lambda pt: "?")
     assert set(files) == {"g.stl", "g.dxf"} and res["stl"]["watertight"]
 
 

@@ -21,13 +21,14 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 import os
 import tempfile
 from pathlib import Path
 
 from transplanter.errors import ExportError
 
-__all__ = ["atomic_write", "json_bytes", "csv_bytes"]
+__all__ = ["atomic_write", "json_bytes", "csv_bytes", "rounded"]
 
 
 def atomic_write(path: str | os.PathLike[str], data: bytes) -> Path:
@@ -67,3 +68,9 @@ def csv_bytes(header: list[str], rows: list[list[object]]) -> bytes:
     for row in rows:
         w.writerow([repr(x) if isinstance(x, float) else x for x in row])
     return buf.getvalue().encode()
+
+
+def rounded(value: float, digits: int = 9) -> float | None:
+    """Rounded for a manifest; None for inf (JSON has no infinity: "no limit")."""
+    v = float(value)
+    return round(v, digits) if math.isfinite(v) else None

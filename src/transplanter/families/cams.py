@@ -1,0 +1,136 @@
+"""Cam studies: the profile for a follower motion, the made cam, the follower run on it."""
+
+from __future__ import annotations
+
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from transplanter import dxf, plots, stl, validate
+from transplanter.cams import disc_cam
+from transplanter.errors import GeometryError
+from transplanter.export import csv_bytes, json_bytes, rounded
+from transplanter.families.making import Making, manufacture
+from transplanter.pitch import Periodic
+
+__all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
+
+
+#: follower-check samples per cam turn
+FOLLOWER_STEPS = 720
+#: largest follower error on the made cam, mm at the roller: a tenth of a typical wire-EDM
+#: tolerance, and 50 times the profile's own chord and arc-fitting error (≲ 1 µm)
+FOLLOWER_TOL = 5e-3
+
+
+@dataclass(frozen=True)
+class CamStudy:
+    """A disc cam giving ``follower`` the ``motion`` (a 2π-periodic function of the cam angle).
+
+    The follower is then run on the made contour (``validate.follower_check``): the profile
+    CSV, and with ``making`` the DXF and the STL's mid-plane section re-read from their bytes;
+    an error above ``FOLLOWER_TOL`` at the roller fails the part.
+    """
+
+    name: str
+    motion: Periodic
+    follower: object
+    n: int = 3600
+    max_pressure_angle_deg: float = 45.0
+    making: Making | None = None
+
+    def following(self, files: dict[str, bytes], sources=("profile", "dxf", "stl")) -> dict:
+        """Run the follower on the cam as found in ``files`` for each source present;
+        returns ``{source: validate.FollowerReport}``."""
+        readers = {
+            "profile": (
+                f"{self.name}.profile.csv",
+                lambda d: shapely.Polygon(np.loadtxt(io.BytesIO(d), delimiter=",", skiprows=1, ndmin=2)[:, 1:]),
+            ),
+            "dxf": (f"{self.name}.cam.dxf", dxf.read_section),
+            "stl": (f"{self.name}.cam.stl", stl.section),
+        }
+        out = {}
+        for source in sources:
+            fname, read = readers[source]
+            if fname in files:
+                out[source] = validate.follower_check(read(files[fname]), self.motion, self.follower, FOLLOWER_STEPS)
+        return out
+
+    def following_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
+        results: dict = {"tolerance_mm": FOLLOWER_TOL}
+        problems = []
+        for source, rep in sorted(reports.items()):
+            results[source] = rep.summary()
+            if rep.max_error > FOLLOWER_TOL:
+                k = int(np.argmax(np.abs(rep.error)))
+                problems.append(
+                    f"{source}: the follower on the made cam misses the law by {rep.error[k] * 1000:.2f} µm at cam "
+                    f"angle {math.degrees(rep.theta[k]):.1f} deg (limit {FOLLOWER_TOL * 1000:g} µm)"
+                )
+        files = {
+            f"{self.name}.follower.{fmt}": plots.figure_bytes(plots.follower_figure(reports, self.name), fmt)
+            for fmt in ("png", "svg")
+        }
+        return results, files, problems
+
+    def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+        """Re-run the follower check on this part's files as found on disk."""
+        results, _, problems = self.following_results(self.following(files))
+        return results, problems
+
+    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+        cam = disc_cam(self.motion, self.follower, self.n, math.radians(self.max_pressure_angle_deg))
+        k = int(np.argmax(cam.pressure_angle))
+        f = self.follower
+        params = {
+            "follower": type(f).__name__,
+            **{k2: getattr(f, k2) for k2 in f.__dataclass_fields__},
+            "samples": self.n,
+            "max_pressure_angle_limit_deg": self.max_pressure_angle_deg,
+        }
+        results = {
+            "max_pressure_angle_deg": rounded(math.degrees(cam.max_pressure_angle)),
+            "at_cam_angle_deg": rounded(math.degrees(cam.theta[k])),
+            "min_convex_radius_of_curvature_mm": rounded(cam.min_convex_radius),
+            "profile_radius_range_mm": [
+                rounded(float(np.linalg.norm(cam.profile, axis=1).min())),
+                rounded(float(np.linalg.norm(cam.profile, axis=1).max())),
+            ],
+            "follower_stroke": rounded(float(np.ptp(cam.follower_position(cam.theta)))),
+        }
+        rows = [
+            [f"{t:.6f}", f"{x:.9f}", f"{y:.9f}"] for t, (x, y) in zip(np.degrees(cam.theta), cam.profile, strict=True)
+        ]
+        files = {f"{self.name}.profile.csv": csv_bytes(["cam_angle_deg", "x_mm", "y_mm"], rows)}
+        for fmt in ("png", "svg"):
+            files[f"{self.name}.cam.{fmt}"] = plots.figure_bytes(plots.cam_figure(cam, self.name), fmt)
+        if self.making is not None:
+            blank = shapely.Polygon(cam.profile)
+            notes = (
+                f"max pressure angle {math.degrees(cam.max_pressure_angle):.2f} deg",
+                f"width {self.making.width:g} mm",
+            )
+            res, made = manufacture(
+                f"{self.name}.cam",
+                blank,
+                shapely.Polygon(),
+                self.making,
+                notes,
+                lambda pt: f"cam angle {math.degrees(math.atan2(pt[1], pt[0])) % 360:.1f} deg",
+            )
+            results["made"] = res
+            files.update(made)
+        following, plot_files, problems = self.following_results(self.following(files))
+        if problems:
+            raise GeometryError(
+                f"{self.name}: the made cam does not give the prescribed motion: " + "; ".join(problems)
+            )
+        results["follower_check"] = following
+        files.update(plot_files)
+        files[f"{self.name}.cam.json"] = json_bytes({"parameters": params, "results": results})
+        return {"kind": "cam", "parameters": params, "results": results}, files

@@ -1,0 +1,87 @@
+"""How a prismatic part is made: section, solid, DXF and STL with their checks."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+
+from transplanter import dxf, solids, stl
+from transplanter.errors import GeometryError
+from transplanter.export import rounded
+
+__all__ = ["Making", "manufacture"]
+
+
+@dataclass(frozen=True)
+class Making:
+    """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions."""
+
+    width: float
+    features: solids.Features = field(default_factory=solids.Features)
+    wire: tuple[float, float] = (0.25, 0.02)
+    dxf_versions: tuple[str, ...] = ("R2000",)
+
+
+def _matching(src: np.ndarray, contours: list[np.ndarray]) -> np.ndarray:
+    """The read-back contour that corresponds to ``src``: nearest perimeter plus centroid offset."""
+
+    def key(c):
+        per = float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1)))
+        return abs(per - src_len) + float(np.linalg.norm(c.mean(axis=0) - src.mean(axis=0)))
+
+    src_len = float(np.sum(np.linalg.norm(np.diff(src, axis=0), axis=1)))
+    return min(contours, key=key)
+
+
+def manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], locate) -> tuple[dict, dict]:
+    """Section, solid, DXF and STL of one prismatic part, with their checks.
+
+    ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12").
+    """
+    section = solids.part_section(blank, cut, making.features)
+    wire_r = making.wire[0] / 2 + making.wire[1]
+    bad = dxf.wire_violations(section, wire_r)
+    if not bad.is_empty:
+        worst = max(bad.geoms, key=lambda g: g.area)
+        where = locate(worst.centroid.coords[0])
+        raise GeometryError(
+            f"{stem}: an inside corner at {where} is tighter than the wire radius {wire_r:.4g} mm "
+            f"(wire {making.wire[0]:g} mm + gap {making.wire[1]:g} mm; {len(bad.geoms)} places, "
+            f"{worst.area:.3g} mm² uncut here); use a finer wire or a larger cutter tip fillet"
+        )
+    solid = solids.part_solid(blank, cut, making.features, making.width)
+    expected = section.area * making.width
+    files: dict[str, bytes] = {}
+    results: dict = {
+        "section_area_mm2": rounded(section.area, 6),
+        "solid_volume_mm3": rounded(solid.volume(), 6),
+        "volume_rel_error": float(f"{abs(solid.volume() / expected - 1):.3e}"),
+        "wire_radius_mm": wire_r,
+    }
+    data = stl.stl_bytes(solid)
+    rep = stl.mesh_report(data)
+    results["stl"] = {
+        "triangles": rep.triangles,
+        "watertight": rep.watertight,
+        "winding_consistent": rep.winding_consistent,
+        "volume_rel_error": float(f"{abs(rep.volume / expected - 1):.3e}"),
+    }
+    if not (rep.watertight and rep.winding_consistent and abs(rep.volume / expected - 1) < 1e-6):
+        raise GeometryError(f"{stem}: the STL fails its checks {results['stl']}")
+    files[f"{stem}.stl"] = data
+    rings = [np.asarray(section.exterior.coords), *(np.asarray(r.coords) for r in section.interiors)]
+    for version in making.dxf_versions:
+        data = dxf.dxf_bytes(dxf.DxfPart(stem, section, notes), version)
+        back = dxf.read_contours(data)
+        crossing = [shapely.is_valid_reason(shapely.Polygon(c)) for c in back if not shapely.Polygon(c).is_valid]
+        if crossing:
+            raise GeometryError(f"{stem}: a DXF contour is not a simple closed curve after the arc fit: {crossing[0]}")
+        dev = max(dxf.contour_deviation(src, _matching(src, back)) for src in rings)
+        results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": float(f"{dev:.3e}")}
+        if dev > 1e-3:
+            raise GeometryError(f"{stem}: the DXF re-reads {dev * 1000:.3f} µm from the source (limit 1 µm)")
+        suffix = "" if version == "R2000" else f".{version}"
+        files[f"{stem}{suffix}.dxf"] = data
+    return results, files
