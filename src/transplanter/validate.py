@@ -53,6 +53,7 @@ import numpy as np
 import shapely
 from scipy import optimize
 
+from transplanter import cams
 from transplanter.errors import GeometryError, SpecError
 
 __all__ = [
@@ -422,8 +423,6 @@ def follower_check(contour, motion, follower, n: int = 720) -> FollowerReport:
     stroke plus 1 mm of the law). Flat-faced: the contour's support height minus the base
     radius. The cam turns counter-clockwise by θ (``cams`` conventions).
     """
-    from transplanter import cams
-
     contour = _polygon("contour", contour)
     if not isinstance(n, int) or n < 8:
         raise SpecError.out_of_range("n", n, "an integer >= 8")
