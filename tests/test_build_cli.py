@@ -210,9 +210,7 @@ def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
 
 
 def test_check_command_reruns_the_checks_on_disk(built, capsys):
-    folders = [str(p) for p in sorted(built.iterdir())]  # every seed family
-    assert len(folders) == 5
-    assert cli.main(["check", *folders]) == 0
+    assert cli.main(["check", str(built)]) == 0  # a folder of families: every seed family
     out = capsys.readouterr().out
     assert "gears_2_3 [stl]: overlap" in out and "swing_cam [dxf]: follower error" in out
     assert "train tip deviation" in out and "finding (expected): outline: the teeth foul" in out

@@ -6,7 +6,8 @@ scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the fo
 (the seed-000 Table 2 layout) and planetary trains (beside published values) in a script and,
 with ``--plots DIR``, writes the arms' plots. ``transplanter optimise parts/x.py --seed S``
 runs differential evolution on the script's ``problem()`` with a progress line per generation
-and prints the best parameters as JSON. ``transplanter check exports/<family>`` re-runs the
+and prints the best parameters as JSON. ``transplanter check exports/<family>`` (or ``transplanter check`` for every
+family in ``exports/``) re-runs the
 meshing and follower checks on the files already on disk, recomputes the analyses and
 compares their data files, and verifies every file's SHA-256 against the manifest; it exits
 1 if a part that must mesh does not, or a file is missing, changed or stale.
@@ -144,8 +145,17 @@ def _fmt_um(mm: float) -> str:
 def _cmd_check(args: argparse.Namespace) -> int:
     from transplanter.families import check_family
 
+    folders = []
+    for folder in map(Path, args.folders or ["exports"]):
+        if folder.is_dir() and not (folder / "manifest.json").exists():  # a folder of families
+            folders += sorted(p for p in folder.iterdir() if (p / "manifest.json").is_file())
+        else:
+            folders.append(folder)
+    if not folders:
+        print(f"no built families in {', '.join(args.folders or ['exports'])}", file=sys.stderr)
+        return 2
     ok = True
-    for folder in args.folders:
+    for folder in folders:
         rep = check_family(folder, args.script)
         print(f"{rep['family']}  ({folder}, design from {rep['script']})")
         if rep["script_changed"]:
@@ -195,7 +205,7 @@ def main(argv: list[str] | None = None) -> int:
     o.add_argument("--maxiter", type=int, default=50, help="generations of differential evolution")
     o.add_argument("--popsize", type=int, default=15, help="population size per variable")
     c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
-    c.add_argument("folders", nargs="+", help="built family folders, e.g. exports/planetary_seed004")
+    c.add_argument("folders", nargs="*", help="built family folders, or a folder of them (default: exports)")
     c.add_argument("--script", help="part script (default: the one recorded in the manifest)")
     args = parser.parse_args(argv)
     try:
