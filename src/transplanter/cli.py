@@ -165,7 +165,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
         for name, part in rep["parts"].items():
             res = part["results"]
             if "data_files_reproduced" in res:
-                print(f"  {name}: {res['data_files_reproduced']} data files reproduced by the script")
+                n = res["data_files_reproduced"]
+                print(f"  {name}: {n} data file{'s' if n != 1 else ''} reproduced by the script")
             for source, r in sorted((k, v) for k, v in res.items() if isinstance(v, dict)):
                 if "max_penetration_mm2" in r:
                     line = (
