@@ -251,4 +251,4 @@ def test_check_command_catches_a_tampered_part(tmp_path, capsys):
     assert "pair: PROBLEM: dxf: the teeth interfere at the pitch point" in out and "FAILED" in out
     (fam / "manifest.json").unlink()
     assert cli.main(["check", str(fam)]) == 2
-    assert "is not a built family folder" in capsys.readouterr().err
+    assert "is not a built family folder (no manifest.json)" in capsys.readouterr().err

@@ -148,12 +148,17 @@ def _cmd_check(args: argparse.Namespace) -> int:
     folders = []
     for folder in map(Path, args.folders or ["exports"]):
         if folder.is_dir() and not (folder / "manifest.json").exists():  # a folder of families
-            folders += sorted(p for p in folder.iterdir() if (p / "manifest.json").is_file())
+            inside = sorted(p for p in folder.iterdir() if (p / "manifest.json").is_file())
+            if not inside:
+                print(
+                    f"transplanter: error: {folder} is not a built family folder (no manifest.json), "
+                    "nor a folder of them",
+                    file=sys.stderr,
+                )
+                return 2
+            folders += inside
         else:
             folders.append(folder)
-    if not folders:
-        print(f"no built families in {', '.join(args.folders or ['exports'])}", file=sys.stderr)
-        return 2
     ok = True
     for folder in folders:
         rep = check_family(folder, args.script)

@@ -288,7 +288,7 @@ def cam_figure(cam, title: str) -> plt.Figure:
     return fig
 
 
-def meshing_figure(reports: dict, title: str, train=None) -> plt.Figure:
+def meshing_figure(reports: dict, title: str, train=None, train_note: str = "") -> plt.Figure:
     """Penetration (with the fouling share) and transmission error over the driver's turn for
     each checked source of a gear pair (``{"outline": MeshReport, "dxf": ..., ...}``), and the
     needle-tip deviation of a train rebuilt from the parts if ``train`` (a TrainReport) is given."""
@@ -316,7 +316,9 @@ def meshing_figure(reports: dict, title: str, train=None) -> plt.Figure:
         ax3.plot(np.degrees(train.theta), 1000 * train.deviation, "C3.", ms=2)
         ax3.set_xlabel("carrier angle (deg)")
         ax3.set_ylabel("tip deviation (µm)")
-        ax3.set_title("needle tip of the train rebuilt from the parts vs the designed trajectory", fontsize=9)
+        ax3.set_title(
+            f"needle tip of the train rebuilt from the parts vs the designed trajectory{train_note}", fontsize=9
+        )
         ax3.grid(True, lw=0.3)
     fig.tight_layout()
     return fig

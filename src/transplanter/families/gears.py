@@ -116,7 +116,8 @@ class ToothedPairStudy:
         files = {}
         shown = trains.get("stl", trains.get("outline"))
         for fmt in ("png", "svg"):
-            fig = plots.meshing_figure(reports, self.name, shown)
+            note = " (pitch-point contact; the interference above ignored)" if problems else ""
+            fig = plots.meshing_figure(reports, self.name, shown, note)
             files[f"{self.name}.meshing.{fmt}"] = plots.figure_bytes(fig, fmt)
         return results, files, problems
 
