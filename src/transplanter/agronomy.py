@@ -40,6 +40,7 @@ import numpy as np
 from scipy import optimize
 
 from transplanter.errors import GeometryError, finite_positive
+from transplanter.extrema import refine_extreme
 from transplanter.tolerances import ANGLE_ROOT_RAD
 
 __all__ = ["ArmMechanism", "TransplantingMetrics", "transplanting_metrics", "segment_distance"]
@@ -114,12 +115,6 @@ def segment_distance(p0, p1, q0, q1) -> np.ndarray:
     return np.where(hit, 0.0, d)
 
 
-def _refine(fn, theta: np.ndarray, k: int) -> float:
-    h = theta[1] - theta[0]
-    res = optimize.minimize_scalar(fn, bounds=(theta[k] - h, theta[k] + h), method="bounded", options={"xatol": 1e-12})
-    return float(res.x) if res.success and res.fun <= fn(theta[k]) else float(theta[k])
-
-
 def transplanting_metrics(
     mech: ArmMechanism,
     seedling_box: tuple[float, float],
@@ -143,13 +138,12 @@ def transplanting_metrics(
     def att_at(t: float) -> float:
         return float(mech.state(np.array([t])).attitude[0])
 
-    k_low = int(np.argmin(tip[:, 1]))
-    t_low = _refine(lambda t: tip_at(t)[1], theta, k_low)
-    k_high = int(np.argmax(tip[:, 1]))
-    t_high = _refine(lambda t: -tip_at(t)[1], theta, k_high)
+    t_low, _ = refine_extreme(lambda t: tip_at(t)[1], theta, tip[:, 1])
+    t_high, _ = refine_extreme(lambda t: tip_at(t)[1], theta, tip[:, 1], largest=True)
     low, high = tip_at(t_low), tip_at(t_high)
-    k_pick = int(np.argmin(np.linalg.norm(tip - box, axis=1)))
-    t_pick = _refine(lambda t: float(np.linalg.norm(tip_at(t) - box)), theta, k_pick)
+    t_pick, _ = refine_extreme(
+        lambda t: float(np.linalg.norm(tip_at(t) - box)), theta, np.linalg.norm(tip - box, axis=1)
+    )
     pick = tip_at(t_pick)
     pick_att, push_att = math.degrees(att_at(t_pick)), math.degrees(att_at(t_low))
     diff = (pick_att - push_att + 180.0) % 360.0 - 180.0
@@ -162,7 +156,7 @@ def transplanting_metrics(
 
     # soil entry and exit around the lowest point, by root finding on the dense crossings
     below = tip[:, 1] < soil
-    shift = k_low
+    shift = int(np.argmin(tip[:, 1]))
     rolled = np.roll(below, -shift)
     if rolled.all():
         raise GeometryError(f"planting_depth = {planting_depth} mm puts the whole trajectory below the soil")

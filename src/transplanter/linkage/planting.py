@@ -35,6 +35,7 @@ import numpy as np
 from scipy import integrate, optimize
 
 from transplanter.errors import GeometryError, SpecError
+from transplanter.extrema import refine_extreme
 from transplanter.linkage.dh import DHFourBar
 from transplanter.linkage.fourbar import FourBar, Link, PointMotion
 from transplanter.tolerances import ANGLE_ROOT_RAD
@@ -252,19 +253,6 @@ class PlantingArm:
             acceleration=(float(pm.acceleration[0, 0]), float(pm.acceleration[0, 1])),
         )
 
-    def _refine_extreme(self, theta: np.ndarray, values: np.ndarray, fn, largest: bool) -> float:
-        """Refine a sampled extreme of ``fn`` with scipy's bounded scalar minimiser."""
-        i = int(np.argmax(values) if largest else np.argmin(values))
-        n = theta.shape[0]
-        lo, hi = sorted((theta[(i - 1) % n], theta[(i + 1) % n]))
-        if hi - lo > 4 * abs(theta[1] - theta[0]):  # wrapped around the cycle start
-            lo, hi = theta[i] - abs(theta[1] - theta[0]), theta[i] + abs(theta[1] - theta[0])
-        sign = -1.0 if largest else 1.0
-        res = optimize.minimize_scalar(
-            lambda t: sign * fn(t), bounds=(lo, hi), method="bounded", options={"xatol": ANGLE_ROOT_RAD}
-        )
-        return float(res.x)
-
     def _extreme(self, cyc: Cycle, kind: str, largest: bool) -> Extreme:
         if kind == "speed":
             values = cyc.frame.speed
@@ -277,7 +265,7 @@ class PlantingArm:
             def fn(t: float) -> float:
                 return float(self.tip_motion(t).acceleration_magnitude[0])
 
-        t = self._refine_extreme(cyc.theta2, values, fn, largest)
+        t, _ = refine_extreme(fn, cyc.theta2, values, largest, ANGLE_ROOT_RAD)
         st = self._state(t)
         vec = st.velocity if kind == "speed" else st.acceleration
         return Extreme(crank_angle=st.crank_angle, magnitude=math.hypot(*vec), direction=math.atan2(vec[1], vec[0]))
@@ -306,7 +294,7 @@ class PlantingArm:
             return float(self.tip_motion(t).position[0, 1])
 
         # lowest point: vy = 0 bracketed around the sampled minimum
-        t_low = self._refine_extreme(cyc.theta2, y, tip_y, largest=False)
+        t_low, _ = refine_extreme(tip_y, cyc.theta2, y, xtol=ANGLE_ROOT_RAD)
         y_low = tip_y(t_low)
         if planting_depth is not None:
             depth = float(planting_depth)

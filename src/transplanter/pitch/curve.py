@@ -31,9 +31,9 @@ from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
-from scipy import optimize
 
 from transplanter.errors import GeometryError, SpecError, finite_array, finite_positive
+from transplanter.extrema import refine_extreme
 from transplanter.pitch.periodic import (
     Constant,
     EccentricCircle,
@@ -212,20 +212,7 @@ class PitchCurve:
     def _refined(self, fn, largest: bool) -> CurvatureExtreme:
         """Global extreme of ``fn`` over a turn: dense scan, then bounded scipy refinement."""
         phi = self.scan()
-        v = fn(phi)
-        k = int(np.argmax(v) if largest else np.argmin(v))
-        h = phi[1] - phi[0]
-        sign = -1.0 if largest else 1.0
-        res = optimize.minimize_scalar(
-            lambda t: sign * float(fn(np.array([t]))[0]),
-            bounds=(phi[k] - h, phi[k] + h),
-            method="bounded",
-            options={"xatol": 1e-12},
-        )
-        if res.success and res.fun < sign * v[k]:
-            angle, best = float(res.x), float(sign * res.fun)
-        else:
-            angle, best = float(phi[k]), float(v[k])
+        angle, best = refine_extreme(lambda t: fn(np.array([t]))[0], phi, fn(phi), largest)
         return CurvatureExtreme(angle=float(np.mod(angle, 2 * math.pi)), value=best)
 
     def min_radius(self) -> CurvatureExtreme:
