@@ -249,6 +249,11 @@ def test_check_command_catches_a_tampered_part(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "file pair.driven.dxf: changed since the build" in out
     assert "pair: PROBLEM: dxf: the teeth interfere at the pitch point" in out and "FAILED" in out
+    manifest = json.loads((fam / "manifest.json").read_text())
+    manifest["parts"]["pair"] = {"error": "GeometryError: made up"}
+    (fam / "manifest.json").write_text(json.dumps(manifest))
+    assert cli.main(["check", str(fam)]) == 1
+    assert "pair: PROBLEM: nothing to check: its build failed: GeometryError: made up" in capsys.readouterr().out
     (fam / "manifest.json").unlink()
     assert cli.main(["check", str(fam)]) == 2
     assert "is not a built family folder (no manifest.json)" in capsys.readouterr().err

@@ -186,6 +186,9 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
     for part in fam.parts:
         rec = manifest["parts"].get(part.name)
         if rec is None or "error" in rec:
+            why = "it is not in the manifest" if rec is None else f"its build failed: {rec['error']}"
+            out["parts"][part.name] = {"results": {}, "problems": [f"nothing to check: {why}"], "expected": False}
+            out["ok"] = False
             continue
         files = {}
         for fname, digest in rec.get("files", {}).items():
