@@ -103,8 +103,22 @@ class Constant(Periodic):
         return np.full(x.shape, self.value if nu == 0 else 0.0)
 
 
+class _Lobed(Periodic):
+    """Smooth everywhere, with ``lobes_`` periods in one turn: no breakpoints."""
+
+    lobes_: int
+
+    @property
+    def period(self) -> float:
+        return 2 * math.pi / self.lobes_
+
+    @property
+    def breakpoints(self) -> np.ndarray:
+        return np.zeros(0)
+
+
 @dataclass(frozen=True)
-class FourierSeries(Periodic):
+class FourierSeries(_Lobed):
     """``a0 + Σ_k a_k cos(k L x) + b_k sin(k L x)``, k = 1..K, with ``L = lobes``.
 
     Examples
@@ -130,14 +144,6 @@ class FourierSeries(Periodic):
         object.__setattr__(self, "a", tuple(float(v) for v in a_arr))
         object.__setattr__(self, "b", tuple(float(v) for v in b_arr))
         object.__setattr__(self, "lobes_", int(lobes))
-
-    @property
-    def period(self) -> float:
-        return 2 * math.pi / self.lobes_
-
-    @property
-    def breakpoints(self) -> np.ndarray:
-        return np.zeros(0)
 
     def _eval(self, x, nu):
         k = self.lobes_ * np.arange(1, len(self.a) + 1)
@@ -203,7 +209,7 @@ class PeriodicSpline(Periodic):
 
 
 @dataclass(frozen=True)
-class FocalEllipse(Periodic):
+class FocalEllipse(_Lobed):
     """Polar radius of an ellipse about a focus, or of Litvin's n-lobed ellipse.
 
     ``r(φ) = p / (1 - e cos nφ)`` with ``p = A (1 - e²)``; n = 1 is the ellipse with
@@ -223,14 +229,6 @@ class FocalEllipse(Periodic):
         object.__setattr__(self, "semi_major", float(semi_major))
         object.__setattr__(self, "eccentricity", e)
         object.__setattr__(self, "lobes_", int(lobes))
-
-    @property
-    def period(self) -> float:
-        return 2 * math.pi / self.lobes_
-
-    @property
-    def breakpoints(self) -> np.ndarray:
-        return np.zeros(0)
 
     @property
     def semi_latus_rectum(self) -> float:
