@@ -28,7 +28,7 @@ from pathlib import Path
 
 from transplanter.errors import ExportError
 
-__all__ = ["atomic_write", "json_bytes", "csv_bytes", "rounded"]
+__all__ = ["atomic_write", "json_bytes", "csv_bytes", "rounded", "significant"]
 
 
 def atomic_write(path: str | os.PathLike[str], data: bytes) -> Path:
@@ -74,3 +74,8 @@ def rounded(value: float, digits: int = 9) -> float | None:
     """Rounded for a manifest; None for inf (JSON has no infinity: "no limit")."""
     v = float(value)
     return round(v, digits) if math.isfinite(v) else None
+
+
+def significant(value: float, digits: int = 4) -> float:
+    """``value`` to ``digits`` significant figures, for error figures in a manifest."""
+    return float(f"{float(value):.{digits - 1}e}")

@@ -9,7 +9,7 @@ import shapely
 
 from transplanter import dxf, solids, stl
 from transplanter.errors import GeometryError
-from transplanter.export import rounded
+from transplanter.export import rounded, significant
 
 __all__ = ["Making", "manufacture"]
 
@@ -57,7 +57,7 @@ def manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], l
     results: dict = {
         "section_area_mm2": rounded(section.area, 6),
         "solid_volume_mm3": rounded(solid.volume(), 6),
-        "volume_rel_error": float(f"{abs(solid.volume() / expected - 1):.3e}"),
+        "volume_rel_error": significant(abs(solid.volume() / expected - 1)),
         "wire_radius_mm": wire_r,
     }
     data = stl.stl_bytes(solid)
@@ -66,7 +66,7 @@ def manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], l
         "triangles": rep.triangles,
         "watertight": rep.watertight,
         "winding_consistent": rep.winding_consistent,
-        "volume_rel_error": float(f"{abs(rep.volume / expected - 1):.3e}"),
+        "volume_rel_error": significant(abs(rep.volume / expected - 1)),
     }
     if not (rep.watertight and rep.winding_consistent and abs(rep.volume / expected - 1) < 1e-6):
         raise GeometryError(f"{stem}: the STL fails its checks {results['stl']}")
@@ -79,7 +79,7 @@ def manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], l
         if crossing:
             raise GeometryError(f"{stem}: a DXF contour is not a simple closed curve after the arc fit: {crossing[0]}")
         dev = max(dxf.contour_deviation(src, _matching(src, back)) for src in rings)
-        results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": float(f"{dev:.3e}")}
+        results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": significant(dev)}
         if dev > 1e-3:
             raise GeometryError(f"{stem}: the DXF re-reads {dev * 1000:.3f} µm from the source (limit 1 µm)")
         suffix = "" if version == "R2000" else f".{version}"

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from transplanter import plots
-from transplanter.export import csv_bytes, json_bytes, rounded
+from transplanter.export import csv_bytes, json_bytes, rounded, significant
 from transplanter.pitch import GearPair, Mesh
 
 __all__ = ["PitchPairStudy"]
@@ -58,9 +58,9 @@ class PitchPairStudy:
         }
         results = {
             "centre_distance_mm": rounded(pair.centre_distance, 12),
-            "closure_error_rad": float(f"{pair.closure_error:.3e}"),
-            "ratio_error": float(f"{pair.ratio_error():.3e}"),
-            "centre_distance_error_mm": float(f"{pair.centre_distance_error():.3e}"),
+            "closure_error_rad": significant(pair.closure_error),
+            "ratio_error": significant(pair.ratio_error()),
+            "centre_distance_error_mm": significant(pair.centre_distance_error()),
             "scale_applied": rounded(sizing.scale, 12),
             "driver": _curve_summary(pair.driver, sizing.teeth[0], sizing.module),
             "driven": _curve_summary(pair.driven, sizing.teeth[1], sizing.module),

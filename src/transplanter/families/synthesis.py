@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from transplanter import plots
-from transplanter.export import csv_bytes, json_bytes, rounded
+from transplanter.export import csv_bytes, json_bytes, rounded, significant
 from transplanter.linkage.open_chain import OpenChain3R
 
 __all__ = ["SynthesisStudy"]
@@ -52,7 +52,7 @@ class SynthesisStudy:
             "link_lengths_mm": [rounded(l1), rounded(l2), rounded(l3)],
             "ratio_L2_L1": rounded(l2 / l1),
             "ratio_L3_L2": rounded(l3 / l2),
-            "pose_error_mm": float(f"{ch.pose_error():.3e}"),
+            "pose_error_mm": significant(ch.pose_error()),
             "pose_carrier_angles_deg": [rounded(math.degrees(t)) for t in ch.pose_tau],
             "circle_curve_samples": len(sample.circle),
             "feasible_samples": int(feasible.sum()),

@@ -10,7 +10,7 @@ import numpy as np
 
 from transplanter import plots
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
-from transplanter.export import csv_bytes, json_bytes, rounded
+from transplanter.export import csv_bytes, json_bytes, rounded, significant
 from transplanter.planetary import DifferentialTrain
 
 __all__ = ["PlanetaryStudy"]
@@ -60,8 +60,8 @@ class PlanetaryStudy:
         }
         results = {
             "metrics": {q: {"value": rounded(v, 6), "unit": u, "published": ref.get(q)} for q, v, u in m.table()},
-            "phase_error_mm": float(f"{tr.phase_error():.3e}"),
-            "trajectory_closure_mm": float(f"{tr.closure_error():.3e}"),
+            "phase_error_mm": significant(tr.phase_error()),
+            "trajectory_closure_mm": significant(tr.closure_error()),
             "variants": {
                 label: {q: rounded(v, 6) for q, v, _ in self.metrics(variant).table()}
                 for label, variant in self.variants
