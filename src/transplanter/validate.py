@@ -55,6 +55,7 @@ from scipy import optimize
 
 from transplanter import cams
 from transplanter.errors import GeometryError, SpecError
+from transplanter.export import significant
 
 __all__ = [
     "MeshReport",
@@ -85,18 +86,17 @@ class MeshReport:
     transmission_error: np.ndarray = field(repr=False)
     backlash: np.ndarray = field(repr=False)
     contacts: np.ndarray = field(repr=False)
+    #: overlap area further than FOULING_PITCHES circular pitches from the pitch point, mm²
+    fouling: np.ndarray = field(repr=False)
+    #: distance of the largest overlap from the pitch point, mm (0 where none)
+    overlap_distance: np.ndarray = field(repr=False)
+    #: whose tooth tips the largest overlap is in: 1 driver, 2 driven, 0 none
+    overlap_side: np.ndarray = field(repr=False)
+    #: driven rotation at first contact of the driving flanks beyond the design angle, rad
+    driven_error: np.ndarray = field(repr=False)
     #: mean driving-flank contact offset (mm at the driven pitch point): half the backlash
     #: for symmetric tooth thinning; the transmission error is measured from it
     offset: float = 0.0
-    #: overlap area further than FOULING_PITCHES circular pitches from the pitch point, mm²
-    fouling: np.ndarray = field(default=None, repr=False)
-    #: distance of the largest overlap from the pitch point, mm (0 where none)
-    overlap_distance: np.ndarray = field(default=None, repr=False)
-    #: whose tooth tips the largest overlap is in: 1 driver, 2 driven, 0 none
-    overlap_side: np.ndarray = field(default=None, repr=False)
-    #: driven rotation at first contact of the driving flanks beyond the design angle, rad
-    driven_error: np.ndarray = field(default=None, repr=False)
-    window: float = 0.0
 
     @property
     def max_penetration(self) -> float:
@@ -127,11 +127,11 @@ class MeshReport:
         the polygon Booleans) are reported as 0."""
         return {
             "steps": len(self.driver_angle),
-            "max_penetration_mm2": float(f"{self.max_penetration:.3e}") if self.max_penetration > 1e-12 else 0.0,
-            "max_fouling_mm2": float(f"{self.max_fouling:.3e}") if self.max_fouling > 1e-12 else 0.0,
-            "max_transmission_error_mm": float(f"{self.max_transmission_error:.3e}"),
-            "rms_transmission_error_mm": float(f"{self.rms_transmission_error:.3e}"),
-            "backlash_mm": [float(f"{self.backlash.min():.3e}"), float(f"{self.backlash.max():.3e}")],
+            "max_penetration_mm2": significant(self.max_penetration) if self.max_penetration > 1e-12 else 0.0,
+            "max_fouling_mm2": significant(self.max_fouling) if self.max_fouling > 1e-12 else 0.0,
+            "max_transmission_error_mm": significant(self.max_transmission_error),
+            "rms_transmission_error_mm": significant(self.rms_transmission_error),
+            "backlash_mm": [significant(self.backlash.min()), significant(self.backlash.max())],
             "contact_ratio": round(self.contact_ratio, 4),
             "min_contacts": self.min_contacts,
         }
@@ -306,7 +306,7 @@ def mesh_check(
         nc[k] = len(getattr(near, "geoms", [near])) if not near.is_empty else 0
     arc = te * r2
     offset = float(arc.mean())
-    return MeshReport(phi1, pen, arc - offset, bl, nc, offset, foul, dist, side, te, half)
+    return MeshReport(phi1, pen, arc - offset, bl, nc, foul, dist, side, te, offset)
 
 
 def backlash_band(pair, thickening: float, n: int = 2048, tol: float = 2e-3) -> tuple[float, float]:
@@ -369,9 +369,9 @@ class TrainReport:
         return {
             "samples": len(self.theta),
             "carrier_turns": round(float(np.ptp(self.theta)) / (2 * math.pi), 3),
-            "max_tip_deviation_mm": float(f"{self.max_deviation:.3e}"),
-            "rms_tip_deviation_mm": float(f"{np.sqrt(np.mean(self.deviation**2)):.3e}"),
-            "max_needle_attitude_error_deg": float(f"{math.degrees(np.max(np.abs(self.attitude_error))):.3e}"),
+            "max_tip_deviation_mm": significant(self.max_deviation),
+            "rms_tip_deviation_mm": significant(np.sqrt(np.mean(self.deviation**2))),
+            "max_needle_attitude_error_deg": significant(math.degrees(np.max(np.abs(self.attitude_error)))),
         }
 
 
@@ -407,9 +407,9 @@ class FollowerReport:
     def summary(self) -> dict:
         return {
             "samples": len(self.theta),
-            "max_error_mm": float(f"{self.max_error:.3e}"),
-            "rms_error_mm": float(f"{np.sqrt(np.mean(self.error**2)):.3e}"),
-            "stroke": float(f"{np.ptp(self.prescribed):.6g}"),
+            "max_error_mm": significant(self.max_error),
+            "rms_error_mm": significant(np.sqrt(np.mean(self.error**2))),
+            "stroke": significant(np.ptp(self.prescribed), 6),
             "stroke_unit": self.unit,
         }
 
@@ -430,15 +430,15 @@ def follower_check(contour, motion, follower, n: int = 720) -> FollowerReport:
     law = np.asarray(motion(theta), dtype=float)
     boundary = contour.exterior
     shapely.prepare(boundary)
-    actual = np.empty(n)
     if isinstance(follower, cams.FlatFacedFollower):
         pts = shapely.get_coordinates(boundary)
-        for k, t in enumerate(theta):  # support height along the follower's +y in the cam frame
-            actual[k] = float(np.max(pts[:, 0] * math.sin(t) + pts[:, 1] * math.cos(t))) - follower.base_radius
+        # support height along the follower's +y, which is (sin θ, cos θ) in the cam frame
+        actual = np.max(pts @ np.stack([np.sin(theta), np.cos(theta)]), axis=0) - follower.base_radius
         return FollowerReport(theta, law, actual, actual - law)
     if not isinstance(follower, cams.OscillatingRollerFollower | cams.TranslatingRollerFollower):
         raise SpecError(f"unknown follower type {type(follower).__name__}")
     rr = follower.roller_radius
+    actual = np.empty(n)
     span = 0.1 * float(np.ptp(law)) + (1.0 / follower.arm_length if hasattr(follower, "arm_length") else 1.0)
 
     def gap(s, t):

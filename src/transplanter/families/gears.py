@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -95,16 +96,22 @@ class ToothedPairStudy:
             out[source] = validate.mesh_check(pair, *polys, sizing.module, steps=MESH_STEPS, teeth=int(sizing.teeth[0]))
         return out
 
+    @cached_property
+    def _backlash_band(self) -> tuple[float, float]:
+        return validate.backlash_band(self._sized()[0], self.cutter.thickening)
+
+    def _problems(self, report) -> list[str]:
+        return report.problems(backlash=self._backlash_band, names=self._names)
+
     def meshing_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
         """Figures per source, the meshing plot, and the problems (``source: text``)."""
-        pair, _ = self._sized()
-        band = validate.backlash_band(pair, self.cutter.thickening)
+        band = self._backlash_band
         results: dict = {"backlash_band_mm": [rounded(band[0], 6), rounded(band[1], 6)], "steps": MESH_STEPS}
         problems = []
         trains = {}
         for source, rep in sorted(reports.items()):
             res = rep.summary()
-            found = rep.problems(backlash=band, names=self._names)
+            found = self._problems(rep)
             res["problems"] = found
             problems += [f"{source}: {p}" for p in found]
             if self.train is not None:
@@ -115,8 +122,8 @@ class ToothedPairStudy:
             results[source] = res
         files = {}
         shown = trains.get("stl", trains.get("outline"))
+        note = " (pitch-point contact; the interference above ignored)" if problems else ""
         for fmt in ("png", "svg"):
-            note = " (pitch-point contact; the interference above ignored)" if problems else ""
             fig = plots.meshing_figure(reports, self.name, shown, note)
             files[f"{self.name}.meshing.{fmt}"] = plots.figure_bytes(fig, fmt)
         return results, files, problems
@@ -159,8 +166,7 @@ class ToothedPairStudy:
             rows = [[f"{x:.9f}", f"{y:.9f}"] for x, y in gear.toothed_contour]
             files[f"{self.name}.{role}.outline.csv"] = csv_bytes(["x_mm", "y_mm"], rows)
         reports = self.meshing(files, ("outline",))
-        band = validate.backlash_band(pair, self.cutter.thickening)
-        problems = reports["outline"].problems(backlash=band, names=self._names)
+        problems = self._problems(reports["outline"])
         if problems and self.must_mesh:
             raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
         if problems:
