@@ -26,9 +26,11 @@ import os
 import tempfile
 from pathlib import Path
 
+import numpy as np
+
 from transplanter.errors import ExportError
 
-__all__ = ["atomic_write", "json_bytes", "csv_bytes", "rounded", "significant"]
+__all__ = ["atomic_write", "json_bytes", "csv_bytes", "csv_array", "rounded", "significant"]
 
 
 def atomic_write(path: str | os.PathLike[str], data: bytes) -> Path:
@@ -68,6 +70,11 @@ def csv_bytes(header: list[str], rows: list[list[object]]) -> bytes:
     for row in rows:
         w.writerow([repr(x) if isinstance(x, float) else x for x in row])
     return buf.getvalue().encode()
+
+
+def csv_array(data: bytes) -> np.ndarray:
+    """The numbers of a CSV written by :func:`csv_bytes` (header skipped), as an (n, k) array."""
+    return np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1, ndmin=2)
 
 
 def rounded(value: float, digits: int = 9) -> float | None:

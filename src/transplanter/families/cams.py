@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -13,7 +12,7 @@ import shapely
 from transplanter import dxf, plots, stl, validate
 from transplanter.cams import disc_cam
 from transplanter.errors import GeometryError
-from transplanter.export import csv_bytes, json_bytes, rounded
+from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
 from transplanter.families.making import Making, manufacture
 from transplanter.pitch import Periodic
 
@@ -49,7 +48,7 @@ class CamStudy:
         readers = {
             "profile": (
                 f"{self.name}.profile.csv",
-                lambda d: shapely.Polygon(np.loadtxt(io.BytesIO(d), delimiter=",", skiprows=1, ndmin=2)[:, 1:]),
+                lambda d: shapely.Polygon(csv_array(d)[:, 1:]),
             ),
             "dxf": (f"{self.name}.cam.dxf", dxf.read_section),
             "stl": (f"{self.name}.cam.stl", stl.section),

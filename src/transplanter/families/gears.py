@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -14,7 +13,7 @@ import shapely
 from transplanter import dxf, plots, solids, stl, validate
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, TransplanterError
-from transplanter.export import csv_bytes, json_bytes, rounded
+from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
 from transplanter.families.making import Making, manufacture
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
@@ -30,7 +29,7 @@ MESH_STEPS = 180
 def _outline_polygon(data: bytes, internal: bool) -> shapely.Polygon:
     """Gear material from an outline CSV: inside it, or for a ring outside it (to a rim 5 mm
     beyond its farthest point — only the teeth matter for meshing)."""
-    xy = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1, ndmin=2)
+    xy = csv_array(data)
     if not internal:
         return shapely.Polygon(xy)
     rim = float(np.linalg.norm(xy, axis=1).max()) + 5.0
