@@ -114,8 +114,10 @@ def family() -> Family:
                 teeth=FINE_RING_TEETH,
                 making=(RING_MAKING, PLANET_MAKING),
                 # the teeth mesh at the pitch point but foul 5-12 mm from it (see the docstring):
-                # a finding, so no shop files are written for this pair
+                # a finding, so no shop files are written for this pair; standard teeth are kept
+                # (trimming the ring's tips to the closed-form limit, 0.35 m, loses the contact)
                 must_mesh=False,
+                trim_ring_tips=False,
                 train=DifferentialTrain(pair, ARM, CARRIER_START, planets=3),
                 rejected=(
                     ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, cutter_for(pair, RING_TEETH, 12)),

@@ -192,8 +192,11 @@ def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
         assert set(meshing) >= {"outline", "dxf", "stl"}
         for source in ("outline", "dxf", "stl"):
             r = meshing[source]
-            assert r["problems"] == [] and r["min_contacts"] >= 2
-            assert r["max_penetration_mm2"] < 1e-3 and r["max_transmission_error_mm"] < 2e-3
+            # designed backlash: only the driving flanks touch, and the play follows the pitch
+            # curve's pressure deviation (the transmission error is a share of the backlash)
+            assert r["problems"] == [] and r["min_contacts"] >= 1 and r["contact_ratio"] > 1.2
+            assert r["max_penetration_mm2"] == 0.0
+            assert r["max_transmission_error_mm"] < 0.1 * meshing["backlash_target_mm"]
         assert f"{name}.meshing.png" in seed002["parts"][name]["files"]
     cam = seed002["parts"]["swing_cam"]["results"]["follower_check"]
     assert set(cam) >= {"profile", "dxf", "stl"}
@@ -204,9 +207,11 @@ def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
     assert not any(f.endswith((".dxf", ".stl")) for f in teeth["files"])
     outline = teeth["results"]["meshing"]["outline"]
     assert outline["problems"][0].startswith("the teeth foul") and outline["max_fouling_mm2"] > 0.1
-    assert outline["train"]["max_tip_deviation_mm"] < 0.01
+    # rebuilt from the driving flanks with the designed 0.072 mm backlash: where the planet's pitch
+    # radius falls to 3.84 mm that play turns the 150 mm arm by up to ~150 * 0.07 / 3.84 ≈ 3-5 mm
+    assert 0.1 < outline["train"]["max_tip_deviation_mm"] < 6.0
     page = (built / "planetary_seed004" / "report.html").read_text()
-    assert "ring_planet_teeth.meshing.png" in page and "max_fouling_mm2" in page
+    assert "ring_planet_teeth.meshing.png" in page and "max fouling</td>" in page
 
 
 def test_check_command_reruns_the_checks_on_disk(built, capsys):

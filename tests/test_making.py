@@ -22,7 +22,7 @@ from transplanter.testing import admesh_available, assert_admesh_clean
 @pytest.fixture(scope="module")
 def ellipse_gears():
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(40.0, 0.2, 2), "external", 2).sized(module=2.0)
-    return generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth)
+    return generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth, backlash=0.0)
 
 
 def test_arc_fit_beats_segments_like_the_anchor():

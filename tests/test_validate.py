@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 import shapely
 
+from transplanter.backlash import backlash_band
 from transplanter.cams import FlatFacedFollower, MotionProgram, OscillatingRollerFollower, disc_cam
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError
@@ -24,7 +25,7 @@ from transplanter.families import FOLLOWER_TOL, ToothedPairStudy
 from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 from transplanter.teeth import generate, generate_pair
-from transplanter.validate import backlash_band, follower_check, mesh_check, train_check
+from transplanter.validate import follower_check, mesh_check, train_check
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +35,7 @@ def ellipse_pair():
 
 def test_generated_pair_meshes_without_backlash(ellipse_pair):
     pair, sizing = ellipse_pair
-    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth)
+    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth, backlash=0.0)
     r = mesh_check(pair, g1.polygon, g2.polygon, 2.0, steps=48)
     assert r.problems() == []
     assert r.max_penetration < 1e-3
@@ -44,7 +45,7 @@ def test_generated_pair_meshes_without_backlash(ellipse_pair):
 
 def test_backlash_pair_stays_in_its_band(ellipse_pair):
     pair, sizing = ellipse_pair
-    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0, thickening=0.05), sizing.teeth)
+    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth, backlash=0.1)
     r = mesh_check(pair, g1.polygon, g2.polygon, 2.0, steps=48)
     assert r.problems(backlash=(0.09, 0.12)) == []
     assert r.offset == pytest.approx(-0.05, abs=0.01)  # half the backlash on each side
@@ -53,7 +54,7 @@ def test_backlash_pair_stays_in_its_band(ellipse_pair):
 
 def test_broken_pairs_are_caught(ellipse_pair):
     pair, sizing = ellipse_pair
-    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth)
+    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth, backlash=0.0)
     close = dataclasses.replace(pair, centre_distance=pair.centre_distance - 0.3)
     r = mesh_check(close, g1.polygon, g2.polygon, 2.0, steps=24)
     assert any("teeth interfere" in p for p in r.problems())
@@ -89,7 +90,7 @@ def test_ring_tips_in_a_small_planet_are_caught_and_a_shorter_addendum_cures_the
 
 def test_steps_are_coprime_with_the_tooth_count(ellipse_pair):
     pair, sizing = ellipse_pair
-    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth)
+    g1, g2 = generate_pair(pair, ShaperCutter(20, 2.0), sizing.teeth, backlash=0.0)
     r = mesh_check(pair, g1.polygon, g2.polygon, 2.0, steps=sizing.teeth[0], teeth=sizing.teeth[0])
     assert math.gcd(len(r.driver_angle), sizing.teeth[0]) == 1 and len(r.driver_angle) > sizing.teeth[0]
 
@@ -98,7 +99,9 @@ def test_seed004_teeth_foul_away_from_the_pitch_point(parts_dir):
     """The finding behind seed 004's withheld shop files: exact at the pitch point, fouling 5-15 mm away."""
     ns = runpy.run_path(str(parts_dir / "planetary_seed004.py"))
     pair, sizing = ns["gear_pair"]().sized(teeth=ns["FINE_RING_TEETH"])
-    ring, planet = generate_pair(pair, ns["cutter_for"](pair, ns["FINE_RING_TEETH"], 8), sizing.teeth)
+    ring, planet = generate_pair(
+        pair, ns["cutter_for"](pair, ns["FINE_RING_TEETH"], 8), sizing.teeth, backlash=0.0, check_interference=False
+    )
     r = mesh_check(pair, ring.polygon, planet.polygon, sizing.module, steps=48, teeth=sizing.teeth[0])
     near = r.penetration - r.fouling
     assert near.max() < 1e-3 and r.max_transmission_error < 1e-3  # conjugate at the pitch point
@@ -116,10 +119,10 @@ def test_train_rebuilt_from_its_parts_follows_the_design(four_lobe_ring_pair):
     arm = ArmGeometry(tip=150.0, knee=80.0, mount=-0.7)
     train = DifferentialTrain(pair, arm, carrier_start=0.7)
     for thick, limit in ((0.0, 2e-3), (0.05, 1.0)):
-        cutter = ShaperCutter(16, sizing.module, thickening=thick)
-        ring, planet = generate_pair(pair, cutter, sizing.teeth, addendum=0.8)
+        cutter = ShaperCutter(16, sizing.module)
+        ring, planet = generate_pair(pair, cutter, sizing.teeth, backlash=2 * thick, addendum=0.8, trim_ring_tips=True)
         r = mesh_check(pair, ring.polygon, planet.polygon, sizing.module, steps=60, teeth=sizing.teeth[0])
-        assert r.problems(backlash=backlash_band(pair, thick)) == []
+        assert r.problems(backlash=backlash_band(pair, 2 * thick)) == []
         t = train_check(train, r)
         assert t.max_deviation < limit
         np.testing.assert_allclose(t.deviation, 2 * arm.tip * np.abs(np.sin(r.driven_error / 2)), atol=1e-9)
@@ -145,10 +148,10 @@ def test_follower_on_the_made_cam_follows_the_law():
 
 def test_a_pair_that_does_not_mesh_fails_its_part(four_lobe_ring_pair, tmp_path):
     pair, sizing = four_lobe_ring_pair
-    study = ToothedPairStudy("ring_planet", pair, ShaperCutter(16, 2.0), sizing.teeth[0])
-    with pytest.raises(
-        GeometryError, match="ring_planet: the generated teeth do not mesh: the teeth interfere at the pitch point"
-    ):
+    # the closed-form check refuses the untrimmed ring before cutting; a finding cuts it anyway
+    # and the meshing check finds the same interference on the teeth
+    study = ToothedPairStudy("ring_planet", pair, ShaperCutter(16, 2.0), sizing.teeth[0], trim_ring_tips=False)
+    with pytest.raises(GeometryError, match="interferes before cutting: fillet interference"):
         study.build(tmp_path)
     too_big = ToothedPairStudy("ring_planet", pair, ShaperCutter(40, 2.0), sizing.teeth[0])
     with pytest.raises(GeometryError, match=r"rolling radius 40 mm .* exceeds"):
@@ -156,6 +159,8 @@ def test_a_pair_that_does_not_mesh_fails_its_part(four_lobe_ring_pair, tmp_path)
     finding = dataclasses.replace(study, must_mesh=False)
     record, files = finding.build(tmp_path)
     assert record["results"]["shop_files"].startswith("withheld")
+    assert record["results"]["meshing"]["outline"]["problems"][0].startswith("the teeth interfere at the pitch point")
+    assert record["results"]["interference"]["problems"][0].startswith("fillet interference")
     assert not any(f.endswith((".dxf", ".stl")) for f in files) and "ring_planet.meshing.png" in files
 
 

@@ -121,6 +121,12 @@ class ShaperCutter:
         """Circular pitch π m, mm."""
         return math.pi * self.module
 
+    @property
+    def involute_end_roll(self) -> float:
+        """Roll length (mm, along the line of action from the base circle) where the cutter's
+        involute ends at its tip fillet: the point that generates a gear's *form circle*."""
+        return self.base_radius * float(self._geometry["u_f"])
+
     def half_thickness_angle(self, radius) -> np.ndarray:
         """Half the tooth's angular thickness at ``radius`` >= r_b (rad)."""
         a = np.arccos(np.clip(self.base_radius / np.asarray(radius, dtype=float), -1, 1))

@@ -45,13 +45,17 @@ import shapely
 from ezdxf.math import bulge_to_arc
 
 from transplanter.errors import ExportError, SpecError
+from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM
 
 __all__ = [
     "fit_arcs",
+    "inset_ring",
     "arcs_to_points",
     "DxfPart",
     "dxf_bytes",
     "read_contours",
+    "assembly_bytes",
+    "section_arcs",
     "read_section",
     "contour_deviation",
     "wire_path",
@@ -152,10 +156,17 @@ def fit_arcs(points, tolerance: float = 0.5e-3, corner_deg: float = 20.0, min_se
         raise SpecError("fit_arcs needs a closed contour of at least 3 finite (x, y) points")
     if np.allclose(pts[0], pts[-1]):
         pts = pts[:-1]
+    # merge points closer than min_segment, keeping the one where the contour turns more (a
+    # corner dropped in favour of its neighbour would be cut off by up to min_segment)
+    d_in = pts - np.roll(pts, 1, axis=0)
+    d_out = np.roll(pts, -1, axis=0) - pts
+    bend = np.abs(np.angle(np.exp(1j * (np.arctan2(d_out[:, 1], d_out[:, 0]) - np.arctan2(d_in[:, 1], d_in[:, 0])))))
     keep = [0]
     for k in range(1, len(pts)):
         if np.hypot(*(pts[k] - pts[keep[-1]])) >= min_segment:
             keep.append(k)
+        elif keep[-1] != 0 and bend[k] > bend[keep[-1]] and np.hypot(*(pts[k] - pts[keep[-2]])) >= min_segment:
+            keep[-1] = k
     pts = pts[keep]
     if np.hypot(*(pts[-1] - pts[0])) < min_segment:
         pts = pts[:-1]
@@ -177,6 +188,28 @@ def fit_arcs(points, tolerance: float = 0.5e-3, corner_deg: float = 20.0, min_se
     return np.array([[p[0], p[1], bulge] for p, bulge in verts])
 
 
+def inset_ring(ring, distance: float) -> np.ndarray:
+    """The closed ``ring`` (n, 2) moved ``distance`` mm to its left (into the material of a
+    shapely-oriented polygon: exterior counter-clockwise, holes clockwise), vertex by vertex
+    on the bisector of its two edges (the mitred offset; capped at 4× where an edge turns by
+    more than ~150°). Returns the closed ring (first point repeated)."""
+    pts = np.asarray(ring, dtype=float)
+    if np.allclose(pts[0], pts[-1]):
+        pts = pts[:-1]
+    keep = np.linalg.norm(pts - np.roll(pts, 1, axis=0), axis=1) > 1e-9
+    pts = pts[keep]
+    d_in = pts - np.roll(pts, 1, axis=0)
+    d_out = np.roll(pts, -1, axis=0) - pts
+    n_in = np.stack([-d_in[:, 1], d_in[:, 0]], axis=1) / np.linalg.norm(d_in, axis=1)[:, None]
+    n_out = np.stack([-d_out[:, 1], d_out[:, 0]], axis=1) / np.linalg.norm(d_out, axis=1)[:, None]
+    b = n_in + n_out
+    norm = np.linalg.norm(b, axis=1)
+    b = np.where(norm[:, None] > 1e-12, b / np.maximum(norm, 1e-300)[:, None], n_in)
+    cos_half = np.maximum(np.einsum("ij,ij->i", b, n_in), 0.25)
+    out = pts + (distance / cos_half)[:, None] * b
+    return np.vstack([out, out[:1]])
+
+
 def arcs_to_points(verts: np.ndarray, max_sagitta: float = 1e-5) -> np.ndarray:
     """Flatten closed bulge vertices ``(n, 3)`` back to points (for checks and plots)."""
     return _bulge_points(np.asarray(verts, dtype=float), max_sagitta)
@@ -190,6 +223,8 @@ class DxfPart:
     section: shapely.Polygon
     notes: tuple[str, ...] = ()
     start_hole: float = 1.0  # diameter, mm
+    #: ANNOTATION marks: (x, y, text) — a cross at the point and the text beside it (timing marks)
+    marks: tuple[tuple[float, float, str], ...] = ()
     #: wire-centre compensation (wire radius + spark gap, mm); None writes the nominal contour
     #: and leaves the offset to the CAM
     wire_offset: float | None = None
@@ -201,50 +236,85 @@ def _rings(section: shapely.Polygon):
         yield np.asarray(r.coords), True
 
 
-def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = 0.5e-3) -> bytes:
-    """The DXF of ``part`` (see the module docstring), as bytes."""
+def _new_doc(version: str, setup: bool = False):
+    """An empty R2000/R12 document in mm with our layers (fixed metadata must be switched on);
+    ``setup`` adds ezdxf's standard styles (needed for dimensions)."""
     if version not in ("R2000", "R12"):
         raise SpecError.out_of_range("DXF version", version, "'R2000' or 'R12'")
+    doc = ezdxf.new(version, setup=setup)
+    if version == "R12":  # R12 has no units header; ezdxf would warn about the default
+        del doc.header["$INSUNITS"]
+    else:
+        doc.header["$INSUNITS"] = 4
+    doc.header["$MEASUREMENT"] = 1
+    for name, colour in LAYERS.items():
+        doc.layers.add(name, color=colour)
+    return doc
+
+
+def _write(doc) -> bytes:
+    buf = io.StringIO()
+    doc.write(buf)
+    return buf.getvalue().encode()
+
+
+def add_contour(msp, verts: np.ndarray, version: str, layer: str) -> None:
+    """One closed bulge polyline (LWPOLYLINE, or POLYLINE for R12) on ``layer``."""
+    attribs = {"layer": layer}
+    if version == "R12":
+        msp.add_polyline2d(verts.tolist(), format="xyb", close=True, dxfattribs=attribs)
+    else:
+        msp.add_lwpolyline(verts.tolist(), format="xyb", close=True, dxfattribs=attribs)
+
+
+def _cross(msp, x: float, y: float, size: float, layer: str) -> None:
+    msp.add_line((x - size, y), (x + size, y), dxfattribs={"layer": layer})
+    msp.add_line((x, y - size), (x, y + size), dxfattribs={"layer": layer})
+
+
+def section_arcs(section: shapely.Polygon, tolerance: float = DXF_ARC_TOLERANCE_MM, inset: float = DXF_INSET_MM):
+    """The contours of ``section`` as one-sided arc fits: ``[(verts (n, 3), is_hole), ...]``.
+
+    Every ring is first moved ``inset`` into the material (:func:`inset_ring`), then fitted
+    within ``tolerance``; with ``inset > tolerance`` the arcs never add material to the part.
+    """
+    oriented = shapely.geometry.polygon.orient(section, 1.0)
+    return [(fit_arcs(inset_ring(ring, inset), tolerance), inner) for ring, inner in _rings(oriented)]
+
+
+def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_TOLERANCE_MM) -> bytes:
+    """The DXF of ``part`` (see the module docstring), as bytes."""
     previous = ezdxf.options.write_fixed_meta_data_for_testing
     ezdxf.options.write_fixed_meta_data_for_testing = True
     try:
-        doc = ezdxf.new(version, setup=False)
-        if version == "R12":  # R12 has no units header; ezdxf would warn about the default
-            del doc.header["$INSUNITS"]
-        else:
-            doc.header["$INSUNITS"] = 4
-        doc.header["$MEASUREMENT"] = 1
-        for name, colour in LAYERS.items():
-            doc.layers.add(name, color=colour)
+        doc = _new_doc(version)
         msp = doc.modelspace()
         section = part.section if part.wire_offset is None else wire_path(part.section, part.wire_offset)
         if part.wire_offset is not None:
             doc.layers.get("CUT").dxf.color = 5
-        for ring, inner in _rings(section):
-            verts = fit_arcs(ring, tolerance)
-            attribs = {"layer": "CUT"}
-            if version == "R12":
-                msp.add_polyline2d(verts.tolist(), format="xyb", close=True, dxfattribs=attribs)
-            else:
-                msp.add_lwpolyline(verts.tolist(), format="xyb", close=True, dxfattribs=attribs)
+        for verts, inner in section_arcs(section, tolerance):
+            add_contour(msp, verts, version, "CUT")
             if inner:
-                hole = shapely.Polygon(ring)
-                centre = shapely.maximum_inscribed_circle(hole).coords[0] if hole.area > 0 else ring[0]
+                hole = shapely.Polygon(verts[:, :2])
+                centre = shapely.maximum_inscribed_circle(hole).coords[0] if hole.area > 0 else verts[0, :2]
                 msp.add_circle(centre, part.start_hole / 2, dxfattribs={"layer": "START_HOLES"})
         minx, miny, maxx, maxy = section.bounds
         height = max(2.0, 0.02 * (maxy - miny))
+        for x, y, text in part.marks:
+            _cross(msp, x, y, 0.4 * height, "ANNOTATION")
+            msp.add_text(text, dxfattribs={"layer": "ANNOTATION", "height": 0.5 * height}).set_placement(
+                (x + 0.5 * height, y + 0.5 * height)
+            )
         label = f"{part.name} (mm)" + ("" if part.wire_offset is None else f", wire path offset {part.wire_offset:g}")
         for k, line in enumerate((label, *part.notes)):
             msp.add_text(line, dxfattribs={"layer": "ANNOTATION", "height": height}).set_placement(
                 (minx, miny - (k + 2) * 1.6 * height)
             )
-        buf = io.StringIO()
-        doc.write(buf)
+        return _write(doc)
     except (ezdxf.DXFError, OSError) as exc:
         raise ExportError(f"cannot write the DXF of {part.name}: {exc}") from exc
     finally:
         ezdxf.options.write_fixed_meta_data_for_testing = previous
-    return buf.getvalue().encode()
 
 
 def _bulge_points(verts, flatten: float) -> np.ndarray:
@@ -266,10 +336,8 @@ def _bulge_points(verts, flatten: float) -> np.ndarray:
     return np.array(out)
 
 
-def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
-    """Closed contours of the CUT layer: vertices and bulges as ezdxf reads them, each arc
-    rebuilt with ``ezdxf.math.bulge_to_arc`` and sampled to ``flatten`` mm (ezdxf's own path
-    flattening goes through cubic Béziers, which miss a 90° arc by 2.7e-4 of its radius)."""
+def _cut_polylines(data: bytes) -> list[np.ndarray]:
+    """Bulge vertices (n, 3) of every closed polyline on the CUT layer, as ezdxf reads them."""
     doc = ezdxf.read(io.StringIO(data.decode()))
     out = []
     for e in doc.modelspace().query("LWPOLYLINE POLYLINE[layer=='CUT']"):
@@ -277,8 +345,68 @@ def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
             verts = [(x, y, b) for x, y, b in e.get_points("xyb")]
         else:
             verts = [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices]
-        out.append(_bulge_points(verts, flatten))
+        out.append(np.array(verts, dtype=float))
     return out
+
+
+def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
+    """Closed contours of the CUT layer: vertices and bulges as ezdxf reads them, each arc
+    rebuilt with ``ezdxf.math.bulge_to_arc`` and sampled to ``flatten`` mm (ezdxf's own path
+    flattening goes through cubic Béziers, which miss a 90° arc by 2.7e-4 of its radius)."""
+    return [_bulge_points(v, flatten) for v in _cut_polylines(data)]
+
+
+def assembly_bytes(
+    name: str,
+    parts: list[tuple[str, bytes, tuple[float, float, float]]],
+    notes: tuple[str, ...] = (),
+) -> bytes:
+    """An assembly drawing (R2000): each part's CUT contours, read from its DXF ``bytes`` and
+    placed at ``(x, y, angle_rad)`` (turned about its own origin, then moved), on layer PARTS;
+    a centre cross at each part's axis (CENTRES) and an aligned dimension from the first
+    part's axis to each other's (DIMENSIONS); the notes (ANNOTATION). Nothing is on CUT: the
+    drawing is for assembly, not for the wire."""
+    previous = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        doc = _new_doc("R2000", setup=True)
+        for layer, colour in (("PARTS", 7), ("CENTRES", 1), ("DIMENSIONS", 5)):
+            doc.layers.add(layer, color=colour)
+        msp = doc.modelspace()
+        span = 0.0
+        for _, data, (x, y, angle) in parts:
+            c, s_ = math.cos(angle), math.sin(angle)
+            for verts in _cut_polylines(data):
+                moved = verts.copy()
+                moved[:, 0] = x + c * verts[:, 0] - s_ * verts[:, 1]
+                moved[:, 1] = y + s_ * verts[:, 0] + c * verts[:, 1]
+                add_contour(msp, moved, "R2000", "PARTS")
+                span = max(span, float(np.max(np.hypot(moved[:, 0], moved[:, 1]))))
+        height = max(2.0, 0.02 * span)
+        x0, y0, _ = parts[0][2]
+        for k, (label, _, (x, y, _)) in enumerate(parts):
+            _cross(msp, x, y, 2 * height, "CENTRES")
+            msp.add_text(label, dxfattribs={"layer": "ANNOTATION", "height": 0.6 * height}).set_placement(
+                (x + 0.6 * height, y - 1.6 * height)
+            )
+            if k:
+                dim = msp.add_aligned_dim(
+                    p1=(x0, y0),
+                    p2=(x, y),
+                    distance=-(span * 0.15 + 4 * height),
+                    dxfattribs={"layer": "DIMENSIONS"},
+                    override={"dimtxt": height, "dimasz": height, "dimdec": 4, "dimexe": height, "dimexo": height},
+                )
+                dim.render()
+        for k, line in enumerate((f"{name}: assembly in the start position (mm)", *notes)):
+            msp.add_text(line, dxfattribs={"layer": "ANNOTATION", "height": height}).set_placement(
+                (-span, -span - (k + 2) * 1.6 * height)
+            )
+        return _write(doc)
+    except (ezdxf.DXFError, OSError) as exc:
+        raise ExportError(f"cannot write the assembly drawing {name}: {exc}") from exc
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = previous
 
 
 def read_section(data: bytes, flatten: float = 5e-5) -> shapely.Polygon:

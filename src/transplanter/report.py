@@ -2,6 +2,12 @@
 
 The page is written next to the parts' files and refers to their PNG plots by name, so the
 folder can be zipped or served as is. It is deterministic (sorted keys, no timestamps).
+
+Each part opens with its status — **built** (with its shop files), **withheld** (a finding:
+figures and plots, no shop files, and why) or **failed** (the error) — and its results and
+parameters follow as tables grouped by topic, with the unit in its own column (read from the
+key's suffix: ``_mm``, ``_mm2``, ``_deg``, ...) and numbers to 4 significant digits (the
+manifest keeps the full figures).
 """
 
 from __future__ import annotations
@@ -9,57 +15,137 @@ from __future__ import annotations
 import html
 import json
 
-__all__ = ["family_report"]
+__all__ = ["family_report", "part_status"]
 
 _STYLE = """
 body { font-family: sans-serif; max-width: 70em; margin: 2em auto; color: #222; }
 h1 { font-size: 1.5em; } h2 { font-size: 1.2em; border-bottom: 1px solid #ccc; margin-top: 2em; }
-table { border-collapse: collapse; font-size: 0.85em; margin: 0.5em 0; }
+h4 { margin: 0.8em 0 0.2em 0; font-size: 0.95em; }
+table { border-collapse: collapse; font-size: 0.85em; margin: 0.3em 0; }
 td, th { border: 1px solid #ddd; padding: 0.2em 0.6em; text-align: left; vertical-align: top; }
-td.v { font-family: monospace; } .error { color: #b00; font-weight: bold; }
+td.v { font-family: monospace; text-align: right; } td.u { color: #666; }
+.error { color: #b00; font-weight: bold; } .withheld { color: #a60; font-weight: bold; }
+.built { color: #070; font-weight: bold; }
 img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; }
 """
 
+#: key suffix -> unit shown (longest first)
+_UNITS = (
+    ("_mm2", "mm²"),
+    ("_mm3", "mm³"),
+    ("_mm", "mm"),
+    ("_deg", "deg"),
+    ("_rad", "rad"),
+    ("_rpm", "rpm"),
+    ("_m_s2", "m/s²"),
+    ("_m_s", "m/s"),
+    ("_n_m", "N m"),
+    ("_n", "N"),
+    ("_kg", "kg"),
+    ("_s", "s"),
+)
+_SHOP = (".dxf", ".stl")
 
-def _flat(prefix: str, value, rows: list[tuple[str, str]], depth: int = 0) -> None:
-    if isinstance(value, dict) and depth < 3:
-        for k in sorted(value):
-            _flat(f"{prefix}.{k}" if prefix else str(k), value[k], rows, depth + 1)
-    elif isinstance(value, list) and len(value) > 12:
-        rows.append((prefix, f"[{len(value)} values]"))
-    else:
-        text = value if isinstance(value, str) else json.dumps(value, sort_keys=True)
-        rows.append((prefix, text))
+
+def _label(key: str) -> tuple[str, str]:
+    for suffix, unit in _UNITS:
+        if key.endswith(suffix):
+            return key[: -len(suffix)].replace("_", " "), unit
+    return key.replace("_", " "), ""
 
 
-def _table(title: str, value) -> str:
-    rows: list[tuple[str, str]] = []
-    _flat("", value, rows)
-    body = "".join(f"<tr><td>{html.escape(k)}</td><td class='v'>{html.escape(v)}</td></tr>" for k, v in rows)
-    return f"<h3>{title}</h3><table>{body}</table>" if rows else ""
+def _number(v) -> str:
+    if isinstance(v, bool) or v is None:
+        return json.dumps(v)
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        return f"{v:.4g}"
+    return str(v)
+
+
+def _value(v) -> str:
+    if isinstance(v, list):
+        if len(v) > 12:
+            return f"[{len(v)} values]"
+        return ", ".join(_value(x) for x in v)
+    if isinstance(v, dict):
+        return "; ".join(f"{k} {_value(x)}" for k, x in sorted(v.items()))
+    return _number(v)
+
+
+def _rows(prefix: str, value: dict, depth: int = 0) -> list[tuple[str, str, str]]:
+    rows = []
+    for key in sorted(value):
+        v = value[key]
+        name, unit = _label(key)
+        name = f"{prefix} › {name}" if prefix else name
+        if isinstance(v, dict) and depth < 4 and v and not all(isinstance(x, int | float) for x in v.values()):
+            rows.extend(_rows(name, v, depth + 1))
+        else:
+            rows.append((name, _value(v), unit))
+    return rows
+
+
+def _table(rows: list[tuple[str, str, str]]) -> str:
+    body = "".join(
+        f"<tr><td>{html.escape(k)}</td><td class='v'>{html.escape(v)}</td><td class='u'>{html.escape(u)}</td></tr>"
+        for k, v, u in rows
+    )
+    return f"<table>{body}</table>" if rows else ""
+
+
+def _grouped(title: str, value: dict) -> str:
+    """One table of the scalars, then one per topic (a dict-valued key)."""
+    if not value:
+        return ""
+    scalars = {k: v for k, v in value.items() if not isinstance(v, dict)}
+    out = [f"<h3>{title}</h3>", _table(_rows("", scalars))]
+    for key in sorted(k for k, v in value.items() if isinstance(v, dict)):
+        out.append(f"<h4>{html.escape(_label(key)[0])}</h4>")
+        out.append(_table(_rows("", value[key])))
+    return "".join(out)
+
+
+def part_status(rec: dict) -> tuple[str, str]:
+    """("built" | "withheld" | "failed", the sentence a reader sees) for a manifest part record."""
+    if "error" in rec:
+        return "failed", f"failed: {rec['error']}"
+    shop = rec.get("results", {}).get("shop_files")
+    if isinstance(shop, str) and shop.startswith("withheld"):
+        return "withheld", f"withheld as a finding — {shop.removeprefix('withheld: ')}; no shop files were written"
+    made = sorted(f for f in rec.get("files", {}) if f.endswith(_SHOP))
+    if made:
+        return "built", f"built — shop files: {', '.join(made)}"
+    return "built", "built — analysis only (no shop files for this kind of part)"
 
 
 def family_report(manifest: dict) -> bytes:
     """HTML page for a family manifest (as written by ``families.build_family``)."""
     name = html.escape(manifest["family"])
-    status = "all parts built" if manifest["ok"] else "<span class='error'>some parts failed</span>"
+    states = [part_status(manifest["parts"][p])[0] for p in manifest["parts"]]
+    counts = ", ".join(f"{states.count(s)} {s}" for s in ("built", "withheld", "failed") if states.count(s))
+    headline = f"{len(states)} part{'s' if len(states) != 1 else ''}: {counts}"
+    cls = "error" if "failed" in states else ("withheld" if "withheld" in states else "built")
     out = [
         "<!DOCTYPE html><html><head><meta charset='utf-8'>",
         f"<title>{name}</title><style>{_STYLE}</style></head><body>",
-        f"<h1>{name}</h1><p>{html.escape(manifest['description'])}</p><p>{status}</p>",
+        f"<h1>{name}</h1><p>{html.escape(manifest['description'])}</p><p class='{cls}'>{headline}</p>",
     ]
     for part in sorted(manifest["parts"]):
         rec = manifest["parts"][part]
+        state, sentence = part_status(rec)
         out.append(f"<h2>{html.escape(part)}</h2>")
-        if "error" in rec:
-            out.append(f"<p class='error'>{html.escape(rec['error'])}</p>")
+        css = "error" if state == "failed" else state
+        out.append(f"<p class='{css}'>{html.escape(sentence)}</p>")
+        if state == "failed":
             continue
         out.append(f"<p>kind: {html.escape(rec.get('kind', ''))}</p>")
         for fname in sorted(rec.get("files", {})):
             if fname.endswith(".png"):
                 out.append(f"<img src='{html.escape(fname)}' alt='{html.escape(fname)}'>")
-        out.append(_table("results", rec.get("results", {})))
-        out.append(_table("parameters", rec.get("parameters", {})))
+        out.append(_grouped("results", rec.get("results", {})))
+        out.append(_grouped("parameters", rec.get("parameters", {})))
         links = " ".join(
             f"<a href='{html.escape(f)}'>{html.escape(f)}</a>"
             for f in sorted(rec.get("files", {}))

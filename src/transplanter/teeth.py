@@ -35,14 +35,16 @@ below ``min_land``), teeth that fall apart.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
 from scipy.interpolate import PPoly
 
+from transplanter.backlash import resolve_backlash
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError
+from transplanter.interference import pair_limits
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
 
@@ -56,6 +58,10 @@ __all__ = [
     "flank_deviation",
     "secondary_cut",
 ]
+
+#: Ring tips are not trimmed below this addendum (modules): shorter teeth lose their contact
+#: ratio, so the pair needs another remedy (cutter, tooth-count difference)
+MIN_TRIMMED_ADDENDUM = 0.3
 
 #: Largest chord error of the generated outline against the exact envelope, mm (0.25 µm:
 #: a quarter of the 1 µm flank budget, the rest is margin for the DXF arc fit).
@@ -171,6 +177,8 @@ class ToothedGear:
     tip_lands: np.ndarray = field(repr=False)
     blank: shapely.Geometry = field(repr=False, default=None)
     cut: shapely.Geometry = field(repr=False, default=None)
+    #: addendum coefficient the tips were cut to (modules)
+    addendum: float = 1.0
 
     @property
     def toothed_contour(self) -> np.ndarray:
@@ -423,7 +431,9 @@ def generate(
             f"{min_land * m:.4g} mm ({thin.size} teeth affected); reduce the addendum or the profile shift"
         )
     blank, removed = (disc, shapely.union(tip, cut)) if internal else (tip, cut)
-    return ToothedGear(body, int(teeth), m, internal, float(shift), cutter, tuple(spaces), lands, blank, removed)
+    return ToothedGear(
+        body, int(teeth), m, internal, float(shift), cutter, tuple(spaces), lands, blank, removed, float(addendum)
+    )
 
 
 def secondary_cut(
@@ -476,13 +486,90 @@ def _drop_specks(body, module: float):
     return keep[0] if len(keep) == 1 else shapely.MultiPolygon(keep)
 
 
-def generate_pair(pair, cutter: ShaperCutter, teeth: tuple[int, int], **kwargs) -> tuple[ToothedGear, ToothedGear]:
+def _per_gear(name: str, value) -> tuple[float, float]:
+    """A float for both gears, or a (driver, driven) pair."""
+    pair = value if isinstance(value, tuple | list) else (value, value)
+    if len(pair) != 2:
+        raise SpecError.out_of_range(name, value, "a number or a (driver, driven) pair of numbers")
+    try:
+        out = (float(pair[0]), float(pair[1]))
+    except (TypeError, ValueError) as exc:
+        raise SpecError(f"{name} must be numbers, got {value!r}") from exc
+    if not all(math.isfinite(v) for v in out):
+        raise SpecError.out_of_range(name, value, "finite")
+    return out
+
+
+def generate_pair(
+    pair,
+    cutter: ShaperCutter,
+    teeth: tuple[int, int],
+    *,
+    backlash: float | None = None,
+    addendum: float | tuple[float, float] = 1.0,
+    shift: float | tuple[float, float] = 0.0,
+    trim_ring_tips: bool = False,
+    check_interference: bool = True,
+    **kwargs,
+) -> tuple[ToothedGear, ToothedGear]:
     """Both gears of a sized ``pitch.GearPair``: the driver with a space, the driven with a tooth at
-    the start contact, so they mesh in the pair's start position. ``kwargs`` go to :func:`generate`.
+    the start contact, so they mesh in the pair's start position.
+
+    Parameters
+    ----------
+    backlash : float or None
+        Circumferential backlash the pair is cut for, mm at the pitch point: each gear's teeth
+        are thinned by half of it (the cutter is made ``backlash/2`` thicker). None: twice the
+        cutter's own ``thickening`` if it has one, else the ISO/TR 10064-2 default
+        (``backlash.design_backlash``). 0 only when zero backlash is really wanted.
+    addendum, shift : float or (driver, driven)
+        Addendum and profile-shift coefficients, for both gears or per gear.
+    trim_ring_tips : bool
+        Internal pairs are checked against the closed-form interference limits along the pitch
+        curves (``interference.pair_limits``) *before* cutting. When the ring's tips reach into
+        the pinion's fillet (or beyond the cutter's involute), True shortens the ring's
+        addendum to the limit (less 0.02 m); False raises GeometryError naming the limit.
+    check_interference : bool
+        False cuts an interfering internal pair anyway (to study it: a finding), without raising.
+    kwargs
+        Go to :func:`generate` (``allow_undercut``, ``min_land``, ``rim``, ...).
     """
     ring = getattr(pair, "ring", None)
-    driver = generate(pair.driver, cutter, teeth[0], internal=ring == "driver", phase=0.0, **kwargs)
-    driven = generate(pair.driven, cutter, teeth[1], internal=ring == "driven", phase=0.5, **kwargs)
+    add = list(_per_gear("addendum", addendum))
+    sh = _per_gear("shift", shift)
+    j = resolve_backlash(backlash, cutter.thickening, cutter.module, pair.centre_distance, cutter.pressure_angle)
+    cutter = replace(cutter, thickening=j / 2)
+    if ring is not None:
+        for k, curve in enumerate((pair.driver, pair.driven)):  # a cutter that cannot roll says so first
+            _check_cutter_fits(ArcFrame.from_curve(curve), cutter, internal=(k == 0) == (ring == "driver"), shift=sh[k])
+        r, p = (0, 1) if ring == "driver" else (1, 0)
+        names = ("ring", "planet")
+
+        def limits():
+            return pair_limits(
+                pair, cutter, ring_addendum=add[r], pinion_addendum=add[p], ring_shift=sh[r], pinion_shift=sh[p]
+            )
+
+        lim = limits()
+        if trim_ring_tips and lim.max_ring_addendum < add[r]:
+            trimmed = math.floor((lim.max_ring_addendum - 0.02) * 100) / 100
+            if trimmed > MIN_TRIMMED_ADDENDUM:
+                add[r] = trimmed
+                lim = limits()
+            elif check_interference:
+                raise GeometryError(
+                    f"ring-tip trimming would leave an addendum of {trimmed:.2f} m (limit > {MIN_TRIMMED_ADDENDUM} m): "
+                    + "; ".join(lim.problems(names))
+                )
+        found = lim.problems(names)
+        if found and check_interference:
+            raise GeometryError("the internal pair interferes before cutting: " + "; ".join(found))
+    driver = generate(
+        pair.driver, cutter, teeth[0], internal=ring == "driver", phase=0.0, addendum=add[0], shift=sh[0], **kwargs
+    )
+    driven = generate(
+        pair.driven, cutter, teeth[1], internal=ring == "driven", phase=0.5, addendum=add[1], shift=sh[1], **kwargs
+    )
     return driver, driven
 
 

@@ -12,6 +12,11 @@ __all__ = [
     "ANGLE_ROOT_RAD",
     "PITCH_CLOSURE_RAD",
     "PITCH_REFERENCE",
+    "WIRE_EDM_TOLERANCE",
+    "DXF_INSET_MM",
+    "DXF_ARC_TOLERANCE_MM",
+    "DXF_READBACK_MM",
+    "SHOP_OVERLAP_MM2",
 ]
 
 #: A four-bar loop solved in closed form closes to round-off: links of up to a few
@@ -41,3 +46,27 @@ PITCH_CLOSURE_RAD = 1e-9
 #: Computed conjugates against closed forms or adaptive-quadrature references (mm, rad,
 #: dimensionless ratio): both sides are round-off exact, so 1e-9 is a sharp bound.
 PITCH_REFERENCE = 1e-9
+
+#: Default manufacturing tolerance of a made surface, ± mm normal to it: a wire-EDM shop
+#: holds ±2-5 µm on contour (one skim cut); the larger value is the safe default. The
+#: backlash of a shipped pair must survive it (``backlash.tolerance_budget``).
+WIRE_EDM_TOLERANCE = 5e-3
+
+#: The DXF arc fit is one-sided: every contour is first moved this far into the material
+#: (mm), then fitted within DXF_ARC_TOLERANCE_MM, so the arcs lie 0.05-0.55 µm inside the
+#: generated outline and never add material to it (where the outline is convex, as on the
+#: flanks, its chords are already inside the exact envelope, so the arcs are inside that too).
+DXF_INSET_MM = 0.3e-3
+
+#: Arc-fit tolerance about the inset contour, mm (0.05 µm under the inset, for the sagitta of an arc
+#: between the checked vertices and chord midpoints: the arcs stay 0.05-0.55 µm inside the source).
+DXF_ARC_TOLERANCE_MM = 0.25e-3
+
+#: A re-read DXF contour may lie at most this far from its source (both ways), mm: the 1 µm
+#: flank budget.
+DXF_READBACK_MM = 1e-3
+
+#: Overlap (mm²) of a shipped pair's re-read parts at any meshing step: with designed
+#: backlash the teeth never touch on both flanks, so anything above the polygon Booleans'
+#: round-off (~1e-12 mm²) is interference.
+SHOP_OVERLAP_MM2 = 1e-9

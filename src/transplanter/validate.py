@@ -17,7 +17,8 @@ the contours re-read from the DXF, or a mid-plane section of the STL — are com
   pitch point (mm) minus its cycle mean (the constant share of the backlash) is the
   geometric transmission error, reported as max and rms; the raw angle is kept
   (``driven_error``) for rebuilding a train from the parts;
-- **backlash**: the same search forwards; backlash is the arc between the two contacts;
+- **backlash**: the same search forwards; backlash is the arc between the two contacts
+  (checked against ``backlash.backlash_band``: above the tolerance budget, below the target's band);
 - **contact**: with the driving flanks closed up, the number of separate places where the
   outlines are within ``contact_tol`` — never zero for a working pair; its mean over the
   cycle is the geometric contact ratio (both flanks count when there is no backlash).
@@ -60,7 +61,6 @@ from transplanter.export import significant
 __all__ = [
     "MeshReport",
     "mesh_check",
-    "backlash_band",
     "TrainReport",
     "train_check",
     "FollowerReport",
@@ -307,21 +307,6 @@ def mesh_check(
     arc = te * r2
     offset = float(arc.mean())
     return MeshReport(phi1, pen, arc - offset, bl, nc, foul, dist, side, te, offset)
-
-
-def backlash_band(pair, thickening: float, n: int = 2048, tol: float = 2e-3) -> tuple[float, float]:
-    """Design band (mm at the driven pitch point) for teeth thinned by ``thickening`` per gear.
-
-    Each gear's space is widened by ``thickening`` along the pitch curve, so the tangential
-    play is ``2 thickening``; turning the driven gear moves its pitch point across the radius,
-    which is ``1/cos ν`` longer than along the tangent (ν the driven pitch curve's pressure
-    deviation): the band is ``[0.9 · 2c - tol, 2c / cos ν_max · 1.1 + tol]`` — the 10 % and
-    ``tol`` (2 µm) cover the outlines' chord error and the flank curvature across the play.
-    """
-    psi = 2 * math.pi * np.arange(n) / n
-    nu = float(np.max(np.abs(pair.driven.pressure_deviation(psi))))
-    c = 2 * abs(thickening)
-    return 0.9 * c - tol, c / math.cos(nu) * 1.1 + tol
 
 
 @dataclass(frozen=True)

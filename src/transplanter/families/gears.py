@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -11,19 +12,56 @@ import numpy as np
 import shapely
 
 from transplanter import dxf, plots, solids, stl, validate
+from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, TransplanterError
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
 from transplanter.families.making import Making, manufacture
+from transplanter.interference import pair_limits
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
-from transplanter.teeth import CHORD_TOLERANCE, generate_pair
+from transplanter.teeth import CHORD_TOLERANCE, ToothedGear, generate_pair
+from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
 __all__ = ["MESH_STEPS", "ToothedPairStudy"]
 
 
 #: meshing-check steps per driver turn (raised to be coprime with the driver's tooth count)
 MESH_STEPS = 180
+#: timing-mark hole (external gears) or rim notch (rings): largest diameter, mm, and the
+#: smallest wall left to the root, the bore and other holes, mm
+MARK_DIAMETER = 2.0
+MARK_WALL = 1.0
+#: rows per driver turn of the design motion a shop receives (``<part>.motion.csv``)
+MOTION_ROWS = 720
+
+
+def _timing_mark(gear: ToothedGear, features: solids.Features) -> tuple[float, float, float]:
+    """(x, y, diameter) of a timing mark at body angle 0, where the gear meets its mate at the
+    start: a through hole between bore and roots on an external gear, a notch in a ring's rim.
+    GeometryError when there is no room for it."""
+    contour = gear.toothed_contour
+    if gear.internal:
+        r_rim = float(gear.blank.bounds[2])
+        wall = r_rim - float(np.linalg.norm(contour, axis=1).max())
+        d = min(MARK_DIAMETER, 0.8 * wall)
+        x = r_rim
+    else:
+        r_root = float(np.linalg.norm(contour, axis=1).min())
+        r_in = features.bore / 2 if features.bore else 0.0
+        room = r_root - r_in - 2 * MARK_WALL
+        d = min(MARK_DIAMETER, room)
+        x = r_in + MARK_WALL + room / 2 + (0.0 if features.bore else 0.25 * room)
+    if d < 0.5:
+        raise GeometryError(
+            f"no room for a timing mark on the {'ring' if gear.internal else 'gear'}: {d:.3g} mm (limit 0.5 mm) "
+            f"between {'the teeth and the rim' if gear.internal else 'the bore and the roots'}"
+        )
+    mark = shapely.Point(x, 0.0).buffer(d / 2 + MARK_WALL)
+    for hx, hy, hd in features.holes:
+        if mark.intersects(shapely.Point(hx, hy).buffer(hd / 2)):
+            raise GeometryError(f"the timing mark at ({x:.2f}, 0) mm meets the hole at ({hx:g}, {hy:g}) mm")
+    return float(x), 0.0, float(d)
 
 
 def _outline_polygon(data: bytes, internal: bool) -> shapely.Polygon:
@@ -46,11 +84,31 @@ class ToothedPairStudy:
     The pair is then *meshed* (``validate.mesh_check``): the generated outlines, and with
     ``making`` the DXF and the mid-plane section of the STL re-read from their bytes, turn
     through a full cycle at the design ratio; the report carries penetration, fouling,
-    transmission error, backlash against ``validate.backlash_band`` and contact ratio, and a
+    transmission error, backlash against ``backlash.backlash_band`` and contact ratio, and a
     plot. A pair that does not mesh fails the part, unless ``must_mesh`` is False: then the
     study is a finding — figures and plot are written, the shop files (DXF, STL) are not.
     With ``train`` (the ``DifferentialTrain`` the pair drives) the train is rebuilt from each
     source's meshing and its needle-tip path compared with the designed one.
+
+    **Backlash and tolerance by design.** ``backlash`` (mm, circumferential at the pitch
+    point; None = the ISO/TR 10064-2 default from module and centre distance, see
+    :mod:`transplanter.backlash`) thins the teeth; ``tolerance`` (± mm, default wire EDM) is what
+    the shop may be off by. The made pair's smallest backlash must stay above the tolerance
+    budget and its largest inside the target's band, and no step may overlap. Zero backlash
+    only when ``backlash=0`` is given; its shop files then carry a warning note.
+
+    **Internal pairs** are checked against the closed-form interference limits along the pitch
+    curves before cutting (:mod:`transplanter.interference`); with ``trim_ring_tips`` the ring's
+    addendum is shortened to clear them, and the manifest says so. ``addendum`` and ``shift``
+    are per gear (driver, driven) or one value for both.
+
+    **Assembly.** With ``making`` the results carry ``assembly`` (kind, mates, teeth, module,
+    centre distance, where the driven gear's axis is in the driver's DXF frame and how it is
+    turned at the start, the backlash measured on the re-read DXF, the tolerance, the timing
+    marks), each gear has a timing mark (a hole facing the mate, or a notch in a ring's rim)
+    at the start contact, its DXF notes name the mate, centre distance and tolerance, and
+    ``<name>.assembly.dxf`` draws the pair in mesh with the centre distance dimensioned;
+    ``<name>.motion.csv`` is the design motion (driven angle per driver angle).
     """
 
     name: str
@@ -62,6 +120,13 @@ class ToothedPairStudy:
     making: tuple[Making, Making] | None = None
     must_mesh: bool = True
     train: DifferentialTrain | None = None
+    backlash: float | None = None
+    tolerance: float = WIRE_EDM_TOLERANCE
+    addendum: float | tuple[float, float] = 1.0
+    shift: float | tuple[float, float] = 0.0
+    trim_ring_tips: bool = True
+    #: meshing-check steps per driver turn (raised to be coprime with the driver's tooth count)
+    mesh_steps: int = MESH_STEPS
 
     def _sized(self) -> tuple[GearPair, object]:
         pair, sizing = self.pair.sized(teeth=self.teeth)
@@ -92,20 +157,116 @@ class ToothedPairStudy:
             if not all(n in files for n in names):
                 continue
             polys = [read(files[n], i) for i, n in enumerate(names)]
-            out[source] = validate.mesh_check(pair, *polys, sizing.module, steps=MESH_STEPS, teeth=int(sizing.teeth[0]))
+            out[source] = validate.mesh_check(
+                pair, *polys, sizing.module, steps=self.mesh_steps, teeth=int(sizing.teeth[0])
+            )
         return out
 
     @cached_property
+    def design_backlash(self) -> float:
+        """The circumferential backlash the pair is cut for, mm."""
+        pair, sizing = self._sized()
+        c = self.cutter
+        return resolve_backlash(self.backlash, c.thickening, sizing.module, pair.centre_distance, c.pressure_angle)
+
+    @cached_property
     def _backlash_band(self) -> tuple[float, float]:
-        return validate.backlash_band(self._sized()[0], self.cutter.thickening)
+        return backlash_band(self._sized()[0], self.design_backlash, self.tolerance)
 
     def _problems(self, report) -> list[str]:
-        return report.problems(backlash=self._backlash_band, names=self._names)
+        overlap = SHOP_OVERLAP_MM2 if self.design_backlash > 0 else validate.PENETRATION_TOL
+        return report.problems(max_penetration=overlap, backlash=self._backlash_band, names=self._names)
+
+    def _assembly(self, pair, sizing, marks, dxf_report) -> dict:
+        """What a shop needs to put the two gears together (see the class docstring)."""
+        external = pair.ring is None
+        centre = -pair.centre_distance if pair.ring == "driven" else pair.centre_distance
+        lo, hi = (float(dxf_report.backlash.min()), float(dxf_report.backlash.max()))
+        return {
+            "kind": "external" if external else "internal",
+            "ring": pair.ring,
+            "driver": f"{self.name}.driver",
+            "driven": f"{self.name}.driven",
+            "teeth": [int(z) for z in sizing.teeth],
+            "module_mm": rounded(sizing.module, 9),
+            "centre_distance_mm": rounded(pair.centre_distance, 9),
+            "driven_centre_mm": [rounded(centre, 9), 0.0],
+            "driven_angle_at_start_deg": 180.0 if external else 0.0,
+            "driver_turns": "clockwise",
+            "driven_turns": "counter-clockwise" if external else "clockwise",
+            "timing_marks_mm": {role: [rounded(x, 6), rounded(y, 6)] for role, (x, y, _) in marks.items()},
+            "backlash_mm": {"min": rounded(lo, 6), "max": rounded(hi, 6)},
+            "backlash_target_mm": rounded(self.design_backlash, 6),
+            "tolerance_mm": self.tolerance,
+            "tolerance_budget_mm": rounded(tolerance_budget(self.tolerance), 6),
+            "motion": f"{self.name}.motion.csv",
+            "drawing": f"{self.name}.assembly.dxf",
+        }
+
+    def _notes(self, role: str, gear: ToothedGear, mate: ToothedGear, making: Making, pair, mark) -> tuple:
+        external = pair.ring is None
+        other = "driven" if role == "driver" else "driver"
+        turn = (
+            "the driven gear is turned 180 deg from its DXF frame at assembly"
+            if external
+            else "both gears keep their DXF orientation at assembly"
+        )
+        j = self.design_backlash
+        notes = [
+            f"{gear.teeth} teeth, module {gear.module:.6g} mm, face width {making.width:g} mm",
+            f"mates with {self.name}.{other} ({mate.teeth} teeth), {'external' if external else 'internal'} mesh, "
+            f"centre distance {pair.centre_distance:.4f} mm",
+            f"backlash {j:.4f} mm circumferential by design; cutting tolerance +/-{self.tolerance:g} mm",
+            f"timing mark: {'notch' if gear.internal else 'hole'} dia {mark[2]:.2f} mm at +x meets the mate's mark "
+            f"at the start; {turn}",
+        ]
+        if j == 0:
+            notes.append(
+                "ZERO BACKLASH by request: no play for the cutting tolerance - the pair binds unless the centre "
+                "distance is opened"
+            )
+        return tuple(notes)
+
+    def _motion_csv(self, pair) -> bytes:
+        phi = 2 * math.pi * np.arange(MOTION_ROWS + 1) / MOTION_ROWS
+        sense = 1.0 if pair.ring is None else -1.0  # counter-clockwise positive
+        driven = sense * pair.driven_rotation(phi)
+        rows = [[f"{math.degrees(a):.4f}", f"{math.degrees(b):.9f}"] for a, b in zip(phi, driven, strict=True)]
+        return csv_bytes(["driver_clockwise_deg", "driven_counterclockwise_deg"], rows)
+
+    def _interference(self, pair, gears, requested) -> dict:
+        r = 0 if pair.ring == "driver" else 1
+        lim = pair_limits(
+            pair,
+            gears[r].cutter,
+            ring_addendum=gears[r].addendum,
+            pinion_addendum=gears[1 - r].addendum,
+            ring_shift=gears[r].shift,
+            pinion_shift=gears[1 - r].shift,
+        )
+        return {
+            "ring_addendum": gears[r].addendum,
+            "ring_tips_trimmed_from": None if requested[r] == gears[r].addendum else requested[r],
+            "ring_addendum_limit": rounded(lim.max_ring_addendum, 4),
+            "min_fillet_margin_mm": rounded(float(np.nanmin(lim.fillet)), 4),
+            "min_trochoid_margin_rad": rounded(float(np.nanmin(lim.trochoid)), 5),
+            "min_contact_ratio": rounded(lim.min_contact_ratio, 3),
+            "radial_assembly": lim.radial_assembly,
+            "problems": lim.problems(self._names),
+            "assembly_note": "radial or axial"
+            if lim.radial_assembly
+            else "axial only: pushed in radially the planet trims the ring's teeth",
+        }
 
     def meshing_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
         """Figures per source, the meshing plot, and the problems (``source: text``)."""
         band = self._backlash_band
-        results: dict = {"backlash_band_mm": [rounded(band[0], 6), rounded(band[1], 6)], "steps": MESH_STEPS}
+        results: dict = {
+            "backlash_band_mm": [rounded(band[0], 6), rounded(band[1], 6)],
+            "backlash_target_mm": rounded(self.design_backlash, 6),
+            "tolerance_mm": self.tolerance,
+            "steps": self.mesh_steps,
+        }
         problems = []
         trains = {}
         for source, rep in sorted(reports.items()):
@@ -123,7 +284,7 @@ class ToothedPairStudy:
         shown = trains.get("stl", trains.get("outline"))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
         for fmt in ("png", "svg"):
-            fig = plots.meshing_figure(reports, self.name, shown, note)
+            fig = plots.meshing_figure(reports, self.name, shown, note, band=band)
             files[f"{self.name}.meshing.{fmt}"] = plots.figure_bytes(fig, fmt)
         return results, files, problems
 
@@ -135,7 +296,18 @@ class ToothedPairStudy:
                 self.train.pair.centre_distance,
                 f"a train on this pair (centre distance {pair.centre_distance})",
             )
-        gears = generate_pair(pair, self.cutter, sizing.teeth, allow_undercut=self.allow_undercut)
+        requested = [self.addendum] * 2 if not isinstance(self.addendum, tuple | list) else list(self.addendum)
+        gears = generate_pair(
+            pair,
+            dataclasses.replace(self.cutter, thickening=0.0),
+            sizing.teeth,
+            backlash=self.design_backlash,
+            addendum=self.addendum,
+            shift=self.shift,
+            trim_ring_tips=self.trim_ring_tips,
+            check_interference=self.must_mesh,
+            allow_undercut=self.allow_undercut,
+        )
         c = self.cutter
         params = {
             "teeth": list(sizing.teeth),
@@ -146,13 +318,20 @@ class ToothedPairStudy:
                 "addendum": c.addendum,
                 "dedendum": c.dedendum,
                 "tip_fillet": c.tip_fillet,
-                "thickening_mm": c.thickening,
+                "thickening_mm": rounded(gears[0].cutter.thickening, 9),
             },
+            "backlash_mm": rounded(self.design_backlash, 6),
+            "backlash_default": self.backlash is None and c.thickening == 0,
+            "tolerance_mm": self.tolerance,
+            "addendum": [g.addendum for g in gears],
+            "shift": [g.shift for g in gears],
             "chord_tolerance_mm": CHORD_TOLERANCE,
             "must_mesh": self.must_mesh,
         }
         results: dict = {}
         files: dict[str, bytes] = {}
+        if pair.ring is not None:
+            results["interference"] = self._interference(pair, gears, requested)
         for role, gear in zip(("driver", "driven"), gears, strict=True):
             results[role] = {
                 "teeth": gear.teeth,
@@ -171,20 +350,52 @@ class ToothedPairStudy:
         if problems:
             results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
         elif self.making is not None:
-            for role, gear in zip(("driver", "driven"), gears, strict=True):
-                making = self.making[0 if role == "driver" else 1]
-                notes = (f"{gear.teeth} teeth", f"module {gear.module:.6g} mm", f"face width {making.width:g} mm")
+            marks = {}
+            for k, (role, gear) in enumerate(zip(("driver", "driven"), gears, strict=True)):
+                making = self.making[k]
+                mark = _timing_mark(gear, making.features)
+                marks[role] = mark
+                making = dataclasses.replace(
+                    making,
+                    features=dataclasses.replace(making.features, holes=(*making.features.holes, mark)),
+                )
                 res, made = manufacture(
                     f"{self.name}.{role}",
                     gear.blank,
                     gear.cut,
                     making,
-                    notes,
+                    self._notes(role, gear, gears[1 - k], making, pair, mark),
                     lambda pt, g=gear: f"tooth space {g.nearest_space(pt)}",
+                    marks=((mark[0], mark[1], "TIMING"),),
                 )
+                res["timing_mark_mm"] = {"x": rounded(mark[0], 6), "y": 0.0, "diameter": rounded(mark[2], 6)}
                 results[role]["made"] = res
                 files.update(made)
             reports.update(self.meshing(files, ("dxf", "stl")))
+            results["assembly"] = self._assembly(pair, sizing, marks, reports["dxf"])
+            files[f"{self.name}.motion.csv"] = self._motion_csv(pair)
+            a = results["assembly"]
+            files[f"{self.name}.assembly.dxf"] = dxf.assembly_bytes(
+                self.name,
+                [
+                    (a["driver"], files[f"{a['driver']}.dxf"], (0.0, 0.0, 0.0)),
+                    (
+                        a["driven"],
+                        files[f"{a['driven']}.dxf"],
+                        (*a["driven_centre_mm"], math.radians(a["driven_angle_at_start_deg"])),
+                    ),
+                ],
+                (
+                    f"centre distance {pair.centre_distance:.4f} mm; driver turns clockwise",
+                    f"backlash measured on the DXF {a['backlash_mm']['min']:.4f}..{a['backlash_mm']['max']:.4f} mm "
+                    f"(target {a['backlash_target_mm']:.4f}, tolerance +/-{self.tolerance:g} mm)",
+                    "timing marks meet at the start contact",
+                ),
+            )
+            if self.design_backlash == 0:
+                results["warning"] = (
+                    "zero backlash by request: the shop files carry a note; cut oversize, the pair binds"
+                )
         meshing, plot_files, problems = self.meshing_results(reports)
         results["meshing"] = meshing
         files.update(plot_files)
@@ -194,7 +405,15 @@ class ToothedPairStudy:
         for label, teeth, cutter in self.rejected:
             alt, alt_sizing = self.pair.sized(teeth=teeth)
             try:
-                generate_pair(alt, cutter, alt_sizing.teeth, allow_undercut=self.allow_undercut)
+                generate_pair(
+                    alt,
+                    cutter,
+                    alt_sizing.teeth,
+                    addendum=self.addendum,
+                    trim_ring_tips=self.trim_ring_tips,
+                    check_interference=self.must_mesh,
+                    allow_undercut=self.allow_undercut,
+                )
             except TransplanterError as exc:
                 findings[label] = f"{type(exc).__name__}: {exc}"
             else:

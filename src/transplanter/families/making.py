@@ -10,8 +10,13 @@ import shapely
 from transplanter import dxf, solids, stl
 from transplanter.errors import GeometryError
 from transplanter.export import rounded, significant
+from transplanter.tolerances import DXF_READBACK_MM
 
-__all__ = ["Making", "manufacture"]
+#: re-read DXF points outside the part by more than this (mm) count as added material: float
+#: round-off of the arc reconstruction is ~1e-12 mm
+ONE_SIDED_MM = 1e-9
+
+__all__ = ["Making", "manufacture", "material_added", "ONE_SIDED_MM"]
 
 
 @dataclass(frozen=True)
@@ -35,10 +40,26 @@ def _matching(src: np.ndarray, contours: list[np.ndarray]) -> np.ndarray:
     return min(contours, key=key)
 
 
-def manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], locate) -> tuple[dict, dict]:
+def material_added(section: shapely.Polygon, contours: list[np.ndarray]) -> float:
+    """Largest distance (mm) by which re-read ``contours`` stray outside ``section``: 0 when an
+    approximation only removed material (the DXF's one-sided arc fit)."""
+    pts = np.concatenate(contours)
+    shapely.prepare(section)
+    out = ~shapely.contains_xy(section, pts[:, 0], pts[:, 1])
+    if not out.any():
+        return 0.0
+    return float(shapely.distance(section, shapely.points(pts[out])).max())
+
+
+def manufacture(
+    stem: str, blank, cut, making: Making, notes: tuple[str, ...], locate, marks: tuple = ()
+) -> tuple[dict, dict]:
     """Section, solid, DXF and STL of one prismatic part, with their checks.
 
-    ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12").
+    ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12"); ``marks`` go
+    to the DXF's ANNOTATION layer (``dxf.DxfPart.marks``). The DXF must re-read within
+    ``DXF_READBACK_MM`` of the section and never outside it (:func:`material_added` below
+    ``ONE_SIDED_MM``: the arc fit may remove material, never add it).
     """
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
@@ -73,15 +94,27 @@ def manufacture(stem: str, blank, cut, making: Making, notes: tuple[str, ...], l
     files[f"{stem}.stl"] = data
     rings = [np.asarray(section.exterior.coords), *(np.asarray(r.coords) for r in section.interiors)]
     for version in making.dxf_versions:
-        data = dxf.dxf_bytes(dxf.DxfPart(stem, section, notes), version)
+        data = dxf.dxf_bytes(dxf.DxfPart(stem, section, notes, marks=marks), version)
         back = dxf.read_contours(data)
         crossing = [shapely.is_valid_reason(shapely.Polygon(c)) for c in back if not shapely.Polygon(c).is_valid]
         if crossing:
             raise GeometryError(f"{stem}: a DXF contour is not a simple closed curve after the arc fit: {crossing[0]}")
         dev = max(dxf.contour_deviation(src, _matching(src, back)) for src in rings)
-        results[f"dxf_{version}"] = {"contours": len(back), "readback_deviation_mm": significant(dev)}
-        if dev > 1e-3:
-            raise GeometryError(f"{stem}: the DXF re-reads {dev * 1000:.3f} µm from the source (limit 1 µm)")
+        added = material_added(section, back)
+        results[f"dxf_{version}"] = {
+            "contours": len(back),
+            "readback_deviation_mm": significant(dev),
+            "material_added_mm": significant(added),
+        }
+        if dev > DXF_READBACK_MM:
+            raise GeometryError(
+                f"{stem}: the DXF re-reads {dev * 1000:.3f} µm from the source (limit {DXF_READBACK_MM * 1000:g} µm)"
+            )
+        if added > ONE_SIDED_MM:
+            raise GeometryError(
+                f"{stem}: the DXF adds material: a re-read contour lies {added * 1000:.4f} µm outside the part "
+                f"(limit {ONE_SIDED_MM:g} mm; the arc fit must only remove material)"
+            )
         suffix = "" if version == "R2000" else f".{version}"
         files[f"{stem}{suffix}.dxf"] = data
     return results, files
