@@ -234,7 +234,7 @@ from transplanter.solids import Features
 def family():
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.15, 2), "external", 2).sized(module=2.0)
     making = (Making(6.0, Features(bore=8.0)),) * 2
-    study = ToothedPairStudy("pair", pair, ShaperCutter(12, 2.0), sizing.teeth[0], making=making)
+    study = ToothedPairStudy("pair", pair, ShaperCutter(12, 2.0), sizing.teeth[0], making=making, mesh_steps=36)
     return Family("small", "an elliptical pair", (study,))
 """
 
