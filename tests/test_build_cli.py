@@ -16,10 +16,11 @@ from transplanter.testing import admesh_available, assert_admesh_clean
 
 
 def _tree_hashes(root: Path) -> dict[str, str]:
+    """Digests of every exported file (the families' hidden lock files beside them excluded)."""
     return {
         str(p.relative_to(root)): hashlib.sha256(p.read_bytes()).hexdigest()
         for p in sorted(root.rglob("*"))
-        if p.is_file()
+        if p.is_file() and not p.name.endswith(".lock")
     }
 
 
@@ -55,7 +56,13 @@ def test_build_one_script_with_jobs(tmp_path, parts_dir):
     out = tmp_path / "o"
     scripts = [str(parts_dir / "fourbar_seed001.py"), str(parts_dir / "fourbar_seed003.py")]
     assert cli.main(["build", *scripts, "-o", str(out), "--jobs", "2"]) == 0
-    assert sorted(p.name for p in out.iterdir()) == ["fourbar_seed001", "fourbar_seed003"]
+    # beside each family its lock file (hidden), nothing else
+    assert sorted(p.name for p in out.iterdir()) == [
+        ".fourbar_seed001.lock",
+        ".fourbar_seed003.lock",
+        "fourbar_seed001",
+        "fourbar_seed003",
+    ]
 
 
 def test_analyse_prints_the_metrics_table(capsys, parts_dir, tmp_path):

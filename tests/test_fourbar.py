@@ -146,7 +146,7 @@ def test_double_crank_turns_fully_and_closes():
     "kwargs, match",
     [
         ({"ground": float("nan")}, "ground = nan is out of range"),
-        ({"crank": -1.0}, "crank = -1.0 is out of range: must be a finite length > 0 mm"),
+        ({"crank": -1.0}, "crank = -1.0 is out of range: must be finite, > 0 and <= 1e.06"),
         ({"coupler": "x"}, "coupler must be a number"),
         ({"branch": 0}, "branch = 0 is out of range: must be \\+1 or -1"),
         ({"ground_angle": float("inf")}, "ground_angle = inf"),

@@ -173,7 +173,7 @@ def test_zero_backlash_shop_files_carry_a_note(tmp_path):
 
 
 def _shipped(built):
-    for family in sorted(built.iterdir()):
+    for family in sorted(p for p in built.iterdir() if p.is_dir()):
         manifest = json.loads((family / "manifest.json").read_text())
         for name, rec in sorted(manifest["parts"].items()):
             if "assembly" in rec.get("results", {}):

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from transplanter.errors import GeometryError, SpecError, finite_positive
+from transplanter.errors import GeometryError, SpecError, check_int, check_number, finite_positive
 from transplanter.pitch.periodic import Periodic
 
 __all__ = [
@@ -282,6 +282,10 @@ def disc_cam(
     """
     if not isinstance(motion, Periodic) or abs(motion.period - TWO_PI) > 1e-12:
         raise SpecError("motion must be a Periodic function with period 2π (one cam turn)")
+    n = check_int("n", n, 8, 1_000_000)
+    max_pressure_angle = check_number(
+        "max_pressure_angle", max_pressure_angle, 0.0, math.pi / 2, low_open=True, high_open=True, unit="rad"
+    )
     theta = TWO_PI * np.arange(n) / n
     if isinstance(follower, FlatFacedFollower):
         s, s1, s2 = motion(theta), motion(theta, 1), motion(theta, 2)

@@ -11,7 +11,9 @@ family in ``exports/``) re-runs the
 meshing and follower checks on the files already on disk, recomputes the analyses and
 compares their data files, and verifies every file's SHA-256 against the manifest; it exits
 1 if a part that must mesh does not, or a file is missing, changed or stale.
-Exit status: 0 on success, 1 if any part failed, 2 on bad input (message on stderr).
+Exit status: 0 on success, 1 if any part failed or a file could not be written (disk full,
+permissions, another build writing the same folder), 2 on bad input (message on stderr).
+``transplanter --version`` prints the version; ``python -m transplanter`` is the same command.
 """
 
 from __future__ import annotations
@@ -21,7 +23,8 @@ import sys
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from transplanter.errors import TransplanterError
+from transplanter import __version__
+from transplanter.errors import ExportError, TransplanterError
 
 __all__ = ["main"]
 
@@ -162,7 +165,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
     ok = True
     for folder in folders:
         rep = check_family(folder, args.script)
-        print(f"{rep['family']}  ({folder}, design from {rep['script']})")
+        design = f", design from {rep['script']}" if rep["script"] else ""
+        print(f"{rep['family']}  ({folder}{design})")
         if rep["script_changed"]:
             print("  note: the part script changed since the build; checking against its current design")
         for fname, problem in sorted(rep["files"].items()):
@@ -173,6 +177,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
                 n = res["data_files_reproduced"]
                 print(f"  {name}: {n} data file{'s' if n != 1 else ''} reproduced by the script")
             for source, r in sorted((k, v) for k, v in res.items() if isinstance(v, dict)):
+                if "error" in r:  # an unreadable file: reported with the problems below
+                    continue
                 if "max_penetration_mm2" in r:
                     line = (
                         f"overlap {r['max_penetration_mm2']:.3g} mm² (fouling {r['max_fouling_mm2']:.3g}), "
@@ -196,6 +202,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="transplanter", description=__doc__.split("\n")[0])
+    parser.add_argument("--version", action="version", version=f"transplanter {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     b = sub.add_parser("build", help="build part families into exports/")
     b.add_argument("scripts", nargs="*", help="part scripts (default: every script in --parts)")
@@ -226,6 +233,9 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "check":
             return _cmd_check(args)
         return _cmd_analyse(args)
+    except ExportError as exc:  # the input was fine; the files could not be written
+        print(f"transplanter: error: {exc}", file=sys.stderr)
+        return 1
     except TransplanterError as exc:
         print(f"transplanter: error: {exc}", file=sys.stderr)
         return 2

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import optimize
 
-from transplanter.errors import GeometryError, SpecError, finite_positive
+from transplanter.errors import GeometryError, SpecError, check_int, check_number
 
 __all__ = ["ShaperCutter", "involute"]
 
@@ -83,17 +83,15 @@ class ShaperCutter:
     thickening: float = 0.0
 
     def __post_init__(self) -> None:
-        if not isinstance(self.teeth, int | np.integer) or self.teeth < 6:
-            raise SpecError.out_of_range("cutter teeth", self.teeth, "an integer >= 6")
-        finite_positive("cutter module", self.module)
-        if not (math.isfinite(self.pressure_angle) and math.radians(10) <= self.pressure_angle <= math.radians(35)):
-            raise SpecError.out_of_range("cutter pressure_angle", self.pressure_angle, "10..35 deg (in rad)")
-        finite_positive("cutter addendum", self.addendum)
-        finite_positive("cutter dedendum", self.dedendum)
-        if not (math.isfinite(self.tip_fillet) and self.tip_fillet >= 0):
-            raise SpecError.out_of_range("cutter tip_fillet", self.tip_fillet, ">= 0")
-        if not (math.isfinite(self.thickening) and abs(self.thickening) < 0.5 * self.module):
-            raise SpecError.out_of_range("cutter thickening", self.thickening, f"|.| < m/2 = {self.module / 2} mm")
+        check_int("cutter teeth", self.teeth, 6, 1000)
+        check_number("cutter module", self.module, 0.01, 100.0, unit="mm")
+        check_number("cutter pressure_angle", self.pressure_angle, math.radians(10), math.radians(35), unit="rad")
+        # a cutter's addendum is the gear's dedendum (~1.25 m); past 2 m its tip outruns the involute
+        check_number("cutter addendum", self.addendum, 0.5, 2.0, unit="m")
+        check_number("cutter dedendum", self.dedendum, 0.0, 3.0, low_open=True, unit="m")
+        check_number("cutter tip_fillet", self.tip_fillet, 0.0, 0.5, unit="m")
+        m = float(self.module)
+        check_number("cutter thickening", self.thickening, -m / 2, m / 2, low_open=True, high_open=True, unit="mm")
         if self.root_radius <= 0:
             raise SpecError.out_of_range("cutter dedendum", self.dedendum, f"< z_c/2 = {self.teeth / 2}")
         self._geometry  # noqa: B018 - build and validate the tip now
@@ -161,7 +159,7 @@ class ShaperCutter:
                 q, n = self._upper_involute(np.array(u))
                 return float(np.linalg.norm(q - rf * n)) - (ra - rf)
 
-            if gap(0.0) >= 0:
+            if gap(0.0) >= 0 or gap(u_tip) <= 0:
                 raise GeometryError(
                     f"cutter tip_fillet = {self.tip_fillet} is too large: the fillet does not fit on the involute"
                 )

@@ -44,7 +44,7 @@ import numpy as np
 import shapely
 from ezdxf.math import bulge_to_arc
 
-from transplanter.errors import ExportError, SpecError
+from transplanter.errors import MAX_MAGNITUDE, ExportError, GeometryError, SpecError, check_number
 from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM
 
 __all__ = [
@@ -63,6 +63,9 @@ __all__ = [
 ]
 
 LAYERS = {"CUT": 7, "START_HOLES": 1, "ANNOTATION": 3}
+
+#: a closed contour enclosing less than this (mm²) is a degenerate sliver, not something to cut
+MIN_CONTOUR_AREA = 1e-6
 
 
 def _arc_dev(p0, t0, p1, pts):
@@ -228,6 +231,32 @@ class DxfPart:
     #: wire-centre compensation (wire radius + spark gap, mm); None writes the nominal contour
     #: and leaves the offset to the CAM
     wire_offset: float | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise SpecError(f"DXF part name must be a non-empty string, got {self.name!r}")
+        if not isinstance(self.section, shapely.Polygon) or self.section.is_empty or not self.section.is_valid:
+            kind = type(self.section).__name__
+            raise SpecError(
+                f"{self.name}: the DXF section must be one valid, non-empty shapely Polygon (a part), got {kind}"
+                + (
+                    " (several pieces: write one DXF per part)"
+                    if isinstance(self.section, shapely.MultiPolygon)
+                    else ""
+                )
+            )
+        for ring in (self.section.exterior, *self.section.interiors):
+            area = abs(shapely.Polygon(ring).area)
+            if area < MIN_CONTOUR_AREA:
+                raise GeometryError(
+                    f"{self.name}: a contour encloses {area:.3g} mm² (limit {MIN_CONTOUR_AREA:g} mm²): nothing to cut"
+                )
+        check_number("start_hole", self.start_hole, 0.0, 100.0, low_open=True, unit="mm")
+        if self.wire_offset is not None:
+            check_number("wire_offset", self.wire_offset, 0.0, 10.0, low_open=True, unit="mm")
+        for x, y, _ in self.marks:
+            check_number("mark x", x, -MAX_MAGNITUDE, MAX_MAGNITUDE)
+            check_number("mark y", y, -MAX_MAGNITUDE, MAX_MAGNITUDE)
 
 
 def _rings(section: shapely.Polygon):

@@ -17,6 +17,7 @@ True
 from __future__ import annotations
 
 import math
+import numbers
 
 import numpy as np
 
@@ -29,7 +30,15 @@ __all__ = [
     "ExportError",
     "finite_array",
     "finite_positive",
+    "check_number",
+    "check_int",
+    "MAX_MAGNITUDE",
 ]
+
+#: Largest magnitude any length (mm) or other size parameter may have: 1e6 mm is a kilometre,
+#: beyond any machine part, and squares of larger values lose the precision the geometry
+#: needs (near 1e308 they overflow).
+MAX_MAGNITUDE = 1e6
 
 
 class TransplanterError(Exception):
@@ -74,12 +83,55 @@ def finite_array(name: str, values, ndim: int = 1) -> np.ndarray:
     return arr
 
 
-def finite_positive(name: str, value: float) -> float:
-    """``value`` as a float > 0, or SpecError naming it."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError) as exc:
-        raise SpecError(f"{name} must be a number, got {value!r}") from exc
-    if not math.isfinite(v) or v <= 0:
-        raise SpecError.out_of_range(name, value, "finite and > 0")
+def _real(name: str, value) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise SpecError(f"{name} must be a number, got {value!r}")
+    v = float(value)
+    if not math.isfinite(v):
+        raise SpecError.out_of_range(name, value, "finite")
+    return v
+
+
+def check_number(
+    name: str,
+    value,
+    low: float | None = None,
+    high: float | None = MAX_MAGNITUDE,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+    unit: str = "",
+) -> float:
+    """``value`` as a finite float in [low, high] (open ends with ``low_open``/``high_open``),
+    or SpecError naming the parameter, the value and the rule. The one validation path for the
+    numeric parameters of public constructors."""
+    v = _real(name, value)
+    u = f" {unit}" if unit else ""
+    lo_ok = low is None or (v > low if low_open else v >= low)
+    hi_ok = high is None or (v < high if high_open else v <= high)
+    if not (lo_ok and hi_ok):
+        parts = []
+        if low is not None:
+            parts.append(f"{'>' if low_open else '>='} {low:g}{u}")
+        if high is not None:
+            parts.append(f"{'<' if high_open else '<='} {high:g}{u}")
+        raise SpecError.out_of_range(name, value, " and ".join(parts))
+    return v
+
+
+def check_int(name: str, value, low: int, high: int) -> int:
+    """``value`` as an int in [low, high], or SpecError naming it (bools and floats are refused)."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise SpecError.out_of_range(name, value, f"an integer from {low} to {high}")
+    v = int(value)
+    if not low <= v <= high:
+        raise SpecError.out_of_range(name, value, f"an integer from {low} to {high}")
+    return v
+
+
+def finite_positive(name: str, value: float, high: float = MAX_MAGNITUDE) -> float:
+    """``value`` as a float > 0 and <= ``high``, or SpecError naming it."""
+    v = _real(name, value)
+    if v <= 0 or v > high:
+        raise SpecError.out_of_range(name, value, f"finite, > 0 and <= {high:g}")
     return v

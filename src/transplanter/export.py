@@ -1,8 +1,18 @@
-"""Writing files atomically and reproducibly.
+"""Writing files atomically and reproducibly; a family's export as one transaction.
 
 Every export goes through :func:`atomic_write`: the bytes are written to a temporary file
 in the target folder, flushed, then renamed over the target, so a reader never sees a
-half-written file and a failed build leaves the previous file intact. Text and JSON are
+half-written file and a failed build leaves the previous file intact.
+
+A whole family folder is written as a **transaction** (:class:`Transaction`): under an
+exclusive lock (``.<name>.lock`` beside it, so two builds cannot write one folder), the new
+files go into a staging folder ``.<name>.staging`` beside the target; when it is complete the
+target is renamed to ``.<name>.previous``, the staging folder to the target, and the
+previous folder is removed. A build killed at any moment leaves either the old folder whole,
+or the new one whole, or (between the two renames) the old one whole under
+``.<name>.previous``, which :func:`recover` — run by the next build and by ``check`` — puts
+back. Leftover staging folders and ``.tmp`` files are removed by :func:`recover` and
+reported by :func:`leftovers`. Text and JSON are
 serialised deterministically (sorted keys, fixed float formatting, ``\\n`` line ends), so
 a rebuild from the same input is byte-identical.
 
@@ -19,10 +29,12 @@ Examples
 from __future__ import annotations
 
 import csv
+import fcntl
 import io
 import json
 import math
 import os
+import shutil
 import tempfile
 from pathlib import Path
 
@@ -30,7 +42,17 @@ import numpy as np
 
 from transplanter.errors import ExportError
 
-__all__ = ["atomic_write", "json_bytes", "csv_bytes", "csv_array", "rounded", "significant"]
+__all__ = [
+    "atomic_write",
+    "Transaction",
+    "recover",
+    "leftovers",
+    "json_bytes",
+    "csv_bytes",
+    "csv_array",
+    "rounded",
+    "significant",
+]
 
 
 def atomic_write(path: str | os.PathLike[str], data: bytes) -> Path:
@@ -55,6 +77,138 @@ def atomic_write(path: str | os.PathLike[str], data: bytes) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return target
+
+
+def _beside(target: Path, what: str) -> Path:
+    return target.parent / f".{target.name}.{what}"
+
+
+def _fsync_dir(folder: Path) -> None:
+    fd = os.open(folder, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def recover(target: str | os.PathLike[str]) -> list[str]:
+    """Put a family folder back in a whole state after an interrupted build; returns what it did.
+
+    The previous folder comes back if the build stopped between its two renames; a leftover
+    staging folder, a leftover previous folder (when the target is whole) and ``.tmp`` files
+    in the target are removed.
+    """
+    target = Path(target)
+    done = []
+    previous, staging = _beside(target, "previous"), _beside(target, "staging")
+    try:
+        if previous.is_dir() and not target.exists():
+            os.rename(previous, target)
+            done.append(f"restored the previous export of {target.name} (a build stopped while swapping it)")
+        if previous.is_dir():
+            shutil.rmtree(previous)
+            done.append(f"removed {previous.name}")
+        if staging.exists():
+            shutil.rmtree(staging)
+            done.append(f"removed the unfinished build {staging.name}")
+        if target.is_dir():
+            for tmp in sorted(target.glob(".*.tmp")):
+                tmp.unlink()
+                done.append(f"removed the half-written {tmp.name}")
+    except OSError as exc:
+        raise ExportError(f"cannot recover {target}: {exc.strerror or exc}") from exc
+    return done
+
+
+def leftovers(target: str | os.PathLike[str]) -> list[str]:
+    """What an interrupted build left beside or in ``target`` (nothing is changed)."""
+    target = Path(target)
+    out = [p.name for p in (_beside(target, "previous"), _beside(target, "staging")) if p.exists()]
+    if target.is_dir():
+        out += [p.name for p in sorted(target.glob(".*.tmp"))]
+    return out
+
+
+class Transaction:
+    """Write a family folder all at once (see the module docstring).
+
+    >>> import tempfile, pathlib
+    >>> root = pathlib.Path(tempfile.mkdtemp()) / "fam"
+    >>> with Transaction(root) as t:
+    ...     _ = t.write("a.txt", b"new")
+    >>> (root / "a.txt").read_bytes(), sorted(p.name for p in root.parent.iterdir())
+    (b'new', ['.fam.lock', 'fam'])
+    """
+
+    def __init__(self, target: str | os.PathLike[str]):
+        self.target = Path(target)
+        self.staging = _beside(self.target, "staging")
+        self._lock = None
+
+    def __enter__(self) -> Transaction:
+        try:
+            self.target.parent.mkdir(parents=True, exist_ok=True)
+            self._lock = open(_beside(self.target, "lock"), "a+b")  # noqa: SIM115 - held until __exit__
+        except OSError as exc:
+            raise ExportError(f"cannot write {self.target}: {exc.strerror or exc}") from exc
+        try:
+            fcntl.flock(self._lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError as exc:
+            self._lock.close()
+            raise ExportError(
+                f"another build is writing {self.target} (lock {_beside(self.target, 'lock').name}); "
+                "wait for it to finish"
+            ) from exc
+        recover(self.target)
+        try:
+            self.staging.mkdir()
+        except OSError as exc:
+            self._release()
+            raise ExportError(f"cannot write {self.target}: {exc.strerror or exc}") from exc
+        return self
+
+    def write(self, name: str, data: bytes) -> Path:
+        """Write one file of the new export (into the staging folder)."""
+        return atomic_write(self.staging / name, data)
+
+    def keep(self, name: str) -> bool:
+        """Carry ``name`` over from the current export unchanged (a hard link, or a copy)."""
+        src = self.target / name
+        if not src.is_file():
+            return False
+        try:
+            os.link(src, self.staging / name)
+        except OSError:
+            shutil.copy2(src, self.staging / name)
+        return True
+
+    def _swap(self) -> None:
+        previous = _beside(self.target, "previous")
+        _fsync_dir(self.staging)
+        if self.target.exists():
+            os.rename(self.target, previous)
+        os.rename(self.staging, self.target)
+        _fsync_dir(self.target.parent)
+        if previous.exists():
+            shutil.rmtree(previous)
+
+    def _release(self) -> None:
+        if self._lock is not None:
+            fcntl.flock(self._lock, fcntl.LOCK_UN)
+            self._lock.close()
+            self._lock = None
+
+    def __exit__(self, kind, exc, tb) -> None:
+        try:
+            if kind is None:
+                try:
+                    self._swap()
+                except OSError as err:
+                    raise ExportError(f"cannot write {self.target}: {err.strerror or err}") from err
+            else:
+                shutil.rmtree(self.staging, ignore_errors=True)
+        finally:
+            self._release()
 
 
 def json_bytes(obj: object) -> bytes:

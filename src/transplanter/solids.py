@@ -139,8 +139,50 @@ class Features:
         return out
 
 
+#: thinnest wall (mm) left between a feature hole (bore, keyway, holes) and the part's edge or
+#: another hole: below it a wire-cut web tears or warps
+MIN_WALL = 0.5
+
+
+def _check_features(blank, cuts, features: Features) -> None:
+    """GeometryError naming the feature that breaks out of the part or leaves a wall < MIN_WALL."""
+    material = shapely.difference(blank, cuts)
+    edge = material.boundary
+    holes = features.cuts()
+    named = []
+    if features.bore is not None:
+        k = 2 if features.keyway else 1
+        label = f"the bore (dia {features.bore:g} mm{' with its keyway' if features.keyway else ''})"
+        named.append((label, shapely.union_all(holes[:k]), True))
+        holes = holes[k:]
+    named += [
+        (f"the hole at ({x:g}, {y:g}) mm (dia {d:g} mm)", h, False)
+        for (x, y, d), h in zip(features.holes, holes, strict=True)
+    ]
+    for k, (name, hole, is_bore) in enumerate(named):
+        inside = material.contains(hole)
+        wall = float(shapely.distance(hole, edge)) if inside else 0.0
+        if wall < MIN_WALL:
+            if is_bore and not material.contains(circle_polygon(0.0, 0.0, features.bore / 2 + MIN_WALL)):
+                reach = float(shapely.distance(shapely.Point(0.0, 0.0), edge))
+                what = f"does not fit: the part reaches only {reach:.3g} mm from the axis"
+            elif is_bore:
+                what = "breaks through the hub with its keyway" if not inside else f"leaves a wall of {wall:.3g} mm"
+            else:
+                what = "breaks out of the part" if not inside else f"leaves a wall of {wall:.3g} mm"
+            raise GeometryError(f"{name} {what} (limit: a wall of {MIN_WALL:g} mm); make it smaller or move it")
+        for other_name, other, _ in named[k + 1 :]:
+            gap = float(shapely.distance(hole, other))
+            if gap < MIN_WALL:
+                raise GeometryError(f"{name} and {other_name} leave a wall of {gap:.3g} mm (limit {MIN_WALL:g} mm)")
+
+
 def part_section(blank, cuts, features: Features) -> shapely.Polygon:
-    """2D section: blank minus cuts minus the feature holes (one polygon, may have holes)."""
+    """2D section: blank minus cuts minus the feature holes (one polygon, may have holes).
+
+    Every feature hole must lie inside the part with a wall of at least MIN_WALL (a keyway
+    breaking through a thin hub, or a bore wider than the part, is an error naming it)."""
+    _check_features(blank, cuts, features)
     section = shapely.difference(blank, shapely.union_all([cuts, *features.cuts()]))
     if not isinstance(section, shapely.Polygon) or section.is_empty:
         raise GeometryError(

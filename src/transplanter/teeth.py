@@ -43,7 +43,7 @@ from scipy.interpolate import PPoly
 
 from transplanter.backlash import resolve_backlash
 from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, SpecError
+from transplanter.errors import GeometryError, SpecError, check_int, check_number
 from transplanter.interference import pair_limits
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
@@ -368,11 +368,20 @@ def generate(
         Tooth-space centres at ``(j + phase) π m`` of arc length: 0 puts a space, 0.5 a tooth
         at the curve's start (a mating gear takes the other).
     """
+    if not isinstance(cutter, ShaperCutter):
+        raise SpecError(f"cutter must be a ShaperCutter, got {type(cutter).__name__}")
+    if not isinstance(curve, PitchCurve):
+        raise SpecError(f"curve must be a PitchCurve, got {type(curve).__name__}")
     m = cutter.module
-    if not isinstance(teeth, int | np.integer) or teeth < 6:
-        raise SpecError.out_of_range("teeth", teeth, "an integer >= 6")
-    if not math.isfinite(shift) or abs(shift) > 1.5:
-        raise SpecError.out_of_range("shift", shift, "-1.5 .. 1.5")
+    check_int("teeth", teeth, 6, 100_000)
+    shift = check_number("shift", shift, -1.5, 1.5)
+    addendum = check_number("addendum", addendum, 0.0, 2.0, low_open=True, unit="m")
+    if rim is not None:
+        rim = check_number("rim", rim, 0.0, low_open=True, unit="mm")
+    min_land = check_number("min_land", min_land, 0.0, 2.0, unit="m")
+    # below 1e-6 mm the grid would outgrow memory before float round-off lets it converge
+    tolerance = check_number("tolerance", tolerance, 1e-6, 0.1, unit="mm")
+    phase = check_number("phase", phase, -1e6, 1e6)
     perimeter = curve.perimeter
     if abs(perimeter - teeth * math.pi * m) > 1e-9 * perimeter:
         raise GeometryError(
@@ -389,8 +398,6 @@ def generate(
     frame = ArcFrame.from_curve(curve)
     _check_cutter_fits(frame, cutter, internal, shift)
     pitch = frame.length / teeth
-    if not math.isfinite(phase):
-        raise SpecError.out_of_range("phase", phase, "finite")
     s_centres = pitch * (np.arange(teeth) + phase)
     tau, y = _profile_grid(frame, cutter, s_centres, side, shift, tolerance)
     spaces_poly = _space_polygons(y, s_centres, frame, side, m)

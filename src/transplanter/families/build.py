@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from transplanter.errors import ExportError, PartScriptError, SpecError, TransplanterError
-from transplanter.export import atomic_write, json_bytes
+from transplanter.export import Transaction, json_bytes, leftovers
 from transplanter.families.cams import CamStudy
 from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
@@ -73,6 +73,8 @@ def load_family(path: str | Path) -> Family:
         something that is not a Family. The message names the script (and line).
     """
     p = Path(path)
+    if p.is_dir():
+        raise PartScriptError(f"{p} is a folder, not a part script (give a .py file, or --parts {p})")
     if not p.is_file():
         raise PartScriptError(f"part script {p} does not exist")
     try:
@@ -81,6 +83,8 @@ def load_family(path: str | Path) -> Family:
         raise PartScriptError(f"{p}:{exc.lineno}: syntax error: {exc.msg}") from exc
     except TransplanterError as exc:
         raise PartScriptError(f"{p}: {exc}") from exc
+    except SystemExit as exc:
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: the script called sys.exit({exc.code!r})") from exc
     except Exception as exc:  # a user script can raise anything; report where
         raise PartScriptError(f"{p}:{_script_line(exc, p)}: {type(exc).__name__}: {exc}") from exc
     fn = ns.get("family")
@@ -90,6 +94,8 @@ def load_family(path: str | Path) -> Family:
         fam = fn()
     except TransplanterError as exc:
         raise PartScriptError(f"{p}: {exc}") from exc
+    except SystemExit as exc:
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: family() called sys.exit({exc.code!r})") from exc
     except Exception as exc:
         raise PartScriptError(f"{p}:{_script_line(exc, p)}: family() raised {type(exc).__name__}: {exc}") from exc
     if not isinstance(fam, Family):
@@ -114,34 +120,80 @@ def _sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
+def _previous_manifest(root: Path) -> dict:
+    try:
+        data = json.loads((root / "manifest.json").read_text())
+        return data if isinstance(data, dict) and isinstance(data.get("parts"), dict) else {}
+    except (OSError, ValueError):
+        return {}
+
+
 def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], None] | None = None) -> dict:
     """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest.
 
     The manifest (also written as ``manifest.json``) lists for each part its parameters,
-    results, files with SHA-256, or its error. ``manifest["ok"]`` is False if any part failed.
+    results, files with SHA-256, or its error — any exception a part raises is recorded as
+    that part's failure (a project error by its message; anything else with its type, as a
+    bug to report). ``manifest["ok"]`` is False if any part failed.
+
+    The folder is written as one transaction (``export.Transaction``): it is the old export
+    until the new one is complete, then the new one; a failing part keeps its previous files
+    (listed under ``previous_files``), files of parts no longer in the script are gone, and a
+    second build of the same folder meanwhile is refused.
     """
     root = Path(out_dir) / family.name
     manifest: dict = {"family": family.name, "description": family.description, "parts": {}, "ok": True}
     if family.script is not None:
         manifest["script"] = {"path": family.script, "sha256": _sha256(Path(family.script).read_bytes())}
-    for part in family.parts:
-        if progress is not None:
-            progress(f"{family.name}/{part.name}")
-        try:
-            record, files = part.build(root)
-        except TransplanterError as exc:
-            manifest["parts"][part.name] = {"error": f"{type(exc).__name__}: {exc}"}
+    with Transaction(root) as tx:
+        old = _previous_manifest(root)
+        for part in family.parts:
+            if progress is not None:
+                progress(f"{family.name}/{part.name}")
+            try:
+                record, files = part.build(root)
+            except TransplanterError as exc:
+                error = f"{type(exc).__name__}: {exc}"
+            except Exception as exc:  # a bug, or a library error that escaped: the part fails, the build goes on
+                error = f"{type(exc).__name__} (unexpected, please report): {exc}"
+            else:
+                for fname, data in sorted(files.items()):
+                    tx.write(fname, data)
+                record["files"] = {fname: _sha256(data) for fname, data in sorted(files.items())}
+                manifest["parts"][part.name] = record
+                continue
+            failed: dict = {"error": error}
+            before = old.get("parts", {}).get(part.name, {})
+            kept = before.get("files", before.get("previous_files", {}))
+            kept = {f: h for f, h in sorted(kept.items()) if tx.keep(f)} if isinstance(kept, dict) else {}
+            if kept:
+                failed["previous_files"] = kept
+            manifest["parts"][part.name] = failed
             manifest["ok"] = False
-            continue
-        for fname, data in sorted(files.items()):
-            atomic_write(root / fname, data)
-        record["files"] = {fname: _sha256(data) for fname, data in sorted(files.items())}
-        manifest["parts"][part.name] = record
-    report = family_report(manifest)
-    atomic_write(root / "report.html", report)
-    manifest["report"] = {"report.html": _sha256(report)}
-    atomic_write(root / "manifest.json", json_bytes(manifest))
+        report = family_report(manifest)
+        tx.write("report.html", report)
+        manifest["report"] = {"report.html": _sha256(report)}
+        tx.write("manifest.json", json_bytes(manifest))
     return manifest
+
+
+def _beside_previous(root: Path) -> Path:
+    return root.parent / f".{root.name}.previous"
+
+
+def _check_manifest(manifest) -> None:
+    """ValueError naming what is wrong if ``manifest`` is not a family manifest."""
+    if not isinstance(manifest, dict) or not isinstance(manifest.get("parts"), dict):
+        raise ValueError("not a family manifest: no 'parts' table")
+    for name, rec in manifest["parts"].items():
+        if not isinstance(rec, dict):
+            raise ValueError(f"part {name!r} is not a record")
+        for key in ("files", "previous_files"):
+            files = rec.get(key, {})
+            if not isinstance(files, dict) or not all(isinstance(v, str) for v in files.values()):
+                raise ValueError(f"part {name!r}: {key} is not a table of SHA-256 digests")
+    if not isinstance(manifest.get("script", {}), dict):
+        raise ValueError("'script' is not a record")
 
 
 def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
@@ -162,10 +214,20 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
         If the script cannot be found or loaded.
     """
     root = Path(folder)
+    if not (root / "manifest.json").is_file():
+        if _beside_previous(root).is_dir():
+            raise ExportError(
+                f"{root}: a build was interrupted while swapping the export; the previous export is whole in "
+                f"{_beside_previous(root).name} — run the build again (it restores or replaces it)"
+            )
+        raise SpecError(f"{root} is not a built family folder (no manifest.json)")
+    out: dict = {"family": root.name, "script": "", "script_changed": False, "files": {}, "parts": {}, "ok": False}
     try:
         manifest = json.loads((root / "manifest.json").read_text())
+        _check_manifest(manifest)
     except (OSError, ValueError) as exc:
-        raise ExportError(f"{root} is not a built family folder (manifest.json: {exc})") from exc
+        out["files"]["manifest.json"] = f"damaged, nothing else can be checked ({exc})"
+        return out
     recorded = manifest.get("script", {})
     path = Path(script) if script is not None else Path(recorded.get("path", ""))
     if not str(path) or not path.is_file():
@@ -175,14 +237,24 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
     fam = load_family(path)
     if fam.name != manifest.get("family"):
         raise PartScriptError(f"{path} defines family {fam.name!r}, but {root} holds {manifest.get('family')!r}")
-    out: dict = {
-        "family": fam.name,
-        "script": str(path),
-        "script_changed": recorded.get("sha256") not in (None, _sha256(path.read_bytes())),
-        "files": {},
-        "parts": {},
-        "ok": True,
-    }
+    out.update(
+        family=fam.name,
+        script=str(path),
+        script_changed=recorded.get("sha256") not in (None, _sha256(path.read_bytes())),
+        ok=True,
+    )
+    for name in leftovers(root):
+        out["files"][name] = "left by an interrupted build (the next build removes it)"
+    listed = {"manifest.json", "report.html"}
+    for rec in manifest["parts"].values():
+        listed.update(rec.get("files", {}), rec.get("previous_files", {}))
+    for f in sorted(root.iterdir()):
+        if f.is_file() and f.name not in listed and not f.name.endswith(".tmp"):
+            out["files"][f.name] = "not in the manifest (a file of a part no longer built?)"
+    for name in sorted(set(manifest["parts"]) - {p.name for p in fam.parts}):
+        gone = ["in the manifest but no longer in the script"]
+        out["parts"][name] = {"results": {}, "problems": gone, "expected": False}
+        out["ok"] = False
     for part in fam.parts:
         rec = manifest["parts"].get(part.name)
         if rec is None or "error" in rec:
@@ -196,13 +268,20 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
             if not f.is_file():
                 out["files"][fname] = "missing"
                 continue
-            data = f.read_bytes()
+            try:
+                data = f.read_bytes()
+            except OSError as exc:
+                out["files"][fname] = f"cannot be read: {exc.strerror or exc}"
+                continue
             if _sha256(data) != digest:
                 out["files"][fname] = "changed since the build (SHA-256 differs)"
             files[fname] = data
         if hasattr(part, "check"):
-            results, problems = part.check(files)
             expected = not getattr(part, "must_mesh", True)
+            try:
+                results, problems = part.check(files)
+            except Exception as exc:  # a damaged file the readers choke on: a problem of this part, go on
+                results, problems, expected = {}, [f"cannot check its files: {type(exc).__name__}: {exc}"], False
         else:  # an analysis: its data files must be what the design gives now
             _, fresh = part.build(root)
             data = sorted(f for f in fresh if f.endswith((".json", ".csv")))

@@ -11,9 +11,9 @@ import shapely
 
 from transplanter import dxf, plots, stl, validate
 from transplanter.cams import disc_cam
-from transplanter.errors import GeometryError
+from transplanter.errors import ExportError, GeometryError
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
-from transplanter.families.making import Making, manufacture
+from transplanter.families.making import Making, manufacture, read_shop_file
 from transplanter.pitch import Periodic
 
 __all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
@@ -57,13 +57,22 @@ class CamStudy:
         for source in sources:
             fname, read = readers[source]
             if fname in files:
-                out[source] = validate.follower_check(read(files[fname]), self.motion, self.follower, FOLLOWER_STEPS)
+                try:
+                    contour = read_shop_file(fname, files[fname], read)
+                except ExportError as exc:
+                    out[source] = str(exc)
+                    continue
+                out[source] = validate.follower_check(contour, self.motion, self.follower, FOLLOWER_STEPS)
         return out
 
     def following_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
         results: dict = {"tolerance_mm": FOLLOWER_TOL}
         problems = []
         for source, rep in sorted(reports.items()):
+            if isinstance(rep, str):  # a file that cannot be read
+                results[source] = {"error": rep}
+                problems.append(f"{source}: {rep}")
+                continue
             results[source] = rep.summary()
             if rep.max_error > FOLLOWER_TOL:
                 k = int(np.argmax(np.abs(rep.error)))
@@ -72,7 +81,9 @@ class CamStudy:
                     f"angle {math.degrees(rep.theta[k]):.1f} deg (limit {FOLLOWER_TOL * 1000:g} µm)"
                 )
         files = {
-            f"{self.name}.follower.{fmt}": plots.figure_bytes(plots.follower_figure(reports, self.name), fmt)
+            f"{self.name}.follower.{fmt}": plots.figure_bytes(
+                plots.follower_figure({k: v for k, v in reports.items() if not isinstance(v, str)}, self.name), fmt
+            )
             for fmt in ("png", "svg")
         }
         return results, files, problems

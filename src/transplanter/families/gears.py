@@ -14,9 +14,9 @@ import shapely
 from transplanter import dxf, plots, solids, stl, validate
 from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
 from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, SpecError, TransplanterError
+from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
-from transplanter.families.making import Making, manufacture
+from transplanter.families.making import Making, manufacture, read_shop_file
 from transplanter.interference import pair_limits
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
@@ -142,7 +142,7 @@ class ToothedPairStudy:
 
     def meshing(self, files: dict[str, bytes], sources=("outline", "dxf", "stl")) -> dict:
         """Mesh the pair as found in ``files`` (this study's file names → bytes) for each source
-        present; returns ``{source: validate.MeshReport}``."""
+        present; returns ``{source: validate.MeshReport}``, or the reason where a file cannot be read."""
         pair, sizing = self._sized()
         internal = (pair.ring == "driver", pair.ring == "driven")
         readers = {
@@ -156,7 +156,11 @@ class ToothedPairStudy:
             names = [f"{self.name}.{role}{suffix}" for role in ("driver", "driven")]
             if not all(n in files for n in names):
                 continue
-            polys = [read(files[n], i) for i, n in enumerate(names)]
+            try:
+                polys = [read_shop_file(n, files[n], lambda d, i=i, rd=read: rd(d, i)) for i, n in enumerate(names)]
+            except ExportError as exc:
+                out[source] = str(exc)
+                continue
             out[source] = validate.mesh_check(
                 pair, *polys, sizing.module, steps=self.mesh_steps, teeth=int(sizing.teeth[0])
             )
@@ -270,6 +274,10 @@ class ToothedPairStudy:
         problems = []
         trains = {}
         for source, rep in sorted(reports.items()):
+            if isinstance(rep, str):  # a file that cannot be read
+                results[source] = {"error": rep}
+                problems.append(f"{source}: {rep}")
+                continue
             res = rep.summary()
             found = self._problems(rep)
             res["problems"] = found
@@ -284,7 +292,8 @@ class ToothedPairStudy:
         shown = trains.get("stl", trains.get("outline"))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
         for fmt in ("png", "svg"):
-            fig = plots.meshing_figure(reports, self.name, shown, note, band=band)
+            readable = {k: v for k, v in reports.items() if not isinstance(v, str)}
+            fig = plots.meshing_figure(readable, self.name, shown, note, band=band)
             files[f"{self.name}.meshing.{fmt}"] = plots.figure_bytes(fig, fmt)
         return results, files, problems
 

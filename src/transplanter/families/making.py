@@ -8,7 +8,7 @@ import numpy as np
 import shapely
 
 from transplanter import dxf, solids, stl
-from transplanter.errors import GeometryError
+from transplanter.errors import ExportError, GeometryError
 from transplanter.export import rounded, significant
 from transplanter.tolerances import DXF_READBACK_MM
 
@@ -16,7 +16,7 @@ from transplanter.tolerances import DXF_READBACK_MM
 #: round-off of the arc reconstruction is ~1e-12 mm
 ONE_SIDED_MM = 1e-9
 
-__all__ = ["Making", "manufacture", "material_added", "ONE_SIDED_MM"]
+__all__ = ["Making", "manufacture", "material_added", "read_shop_file", "ONE_SIDED_MM"]
 
 
 @dataclass(frozen=True)
@@ -38,6 +38,15 @@ def _matching(src: np.ndarray, contours: list[np.ndarray]) -> np.ndarray:
 
     src_len = float(np.sum(np.linalg.norm(np.diff(src, axis=0), axis=1)))
     return min(contours, key=key)
+
+
+def read_shop_file(name: str, data: bytes, reader):
+    """``reader(data)`` — a DXF/STL/CSV reader — or ExportError saying the file cannot be read
+    (a truncated or damaged file must be reported as such, not end the check)."""
+    try:
+        return reader(data)
+    except Exception as exc:  # any reader's error on damaged bytes
+        raise ExportError(f"cannot read {name}: {type(exc).__name__}: {exc}") from exc
 
 
 def material_added(section: shapely.Polygon, contours: list[np.ndarray]) -> float:

@@ -34,7 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from transplanter.errors import GeometryError, SpecError, finite_array
+from transplanter.errors import MAX_MAGNITUDE, GeometryError, SpecError, check_number
+
+#: most abscissae :meth:`FourPoses.sample` evaluates in one call (16 000 take ~0.1 s)
+MAX_SAMPLES = 1_000_000
 
 __all__ = ["Pose", "FourPoses", "Dyad", "CircleCurveSample"]
 
@@ -48,7 +51,8 @@ class Pose:
     theta: float
 
     def __post_init__(self) -> None:
-        finite_array("pose", [self.x, self.y, self.theta])
+        for name in ("x", "y", "theta"):
+            check_number(f"pose {name}", getattr(self, name), -MAX_MAGNITUDE, MAX_MAGNITUDE)
 
 
 @dataclass(frozen=True)
@@ -98,14 +102,22 @@ class FourPoses:
         self.poses = poses
         p1 = poses[0]
         mats = []
-        for i, p in enumerate(poses[1:], start=2):
+        for p in poses[1:]:
             th = p.theta - p1.theta
             c, s = math.cos(th), math.sin(th)
             d13 = p.x - p1.x * c + p1.y * s
             d23 = p.y - p1.x * s - p1.y * c
             mats.append((c, -s, d13, s, c, d23))
-            if abs(math.remainder(th, 2 * math.pi)) < 1e-9 and math.hypot(d13, d23) < 1e-9:
-                raise SpecError(f"pose {i} repeats pose 1: four finitely separated poses are needed")
+        for i in range(4):
+            for j in range(i + 1, 4):
+                a, b = poses[i], poses[j]
+                if (
+                    abs(math.remainder(a.theta - b.theta, 2 * math.pi)) < 1e-9
+                    and math.hypot(a.x - b.x, a.y - b.y) < 1e-9
+                ):
+                    raise SpecError(f"pose {j + 1} repeats pose {i + 1}: four finitely separated poses are needed")
+        if all(abs(math.remainder(p.theta - p1.theta, 2 * math.pi)) < 1e-9 for p in poses):
+            raise GeometryError("the poses are pure translations: every circle point is at infinity; turn the link")
         #: rows (A11..A17) of eq 4 for poses 2, 3, 4
         self._a = np.array(
             [
@@ -198,9 +210,15 @@ class FourPoses:
 
         ``link1`` = |A_c1 - A_0|, ``link2`` = |Q_1 - A_c1|.
         """
-        lo, hi = (float(v) for v in x_range)
-        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
-            raise SpecError.out_of_range("x_range", x_range, "finite (lo, hi) with lo < hi")
+        try:
+            lo, hi = (check_number("x_range", v) for v in x_range)
+        except (TypeError, ValueError) as exc:
+            raise SpecError.out_of_range("x_range", x_range, "two numbers (lo, hi)") from exc
+        if not lo < hi:
+            raise SpecError.out_of_range("x_range", x_range, "(lo, hi) with lo < hi")
+        step = check_number("step", step, 0.0, low_open=True, unit="mm")
+        if (hi - lo) / step > MAX_SAMPLES:
+            raise SpecError.out_of_range("step", step, f">= {(hi - lo) / MAX_SAMPLES:.3g} mm ({MAX_SAMPLES} abscissae)")
         xs = np.arange(lo, hi + 0.5 * step, step)
         x, y = self._roots(xs)
         c, e, f = self.cef(x, y)

@@ -42,7 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from transplanter.errors import AssemblyError, SpecError
+from transplanter.errors import MAX_MAGNITUDE, AssemblyError, SpecError, check_number, finite_positive
 from transplanter.tolerances import ASSEMBLY_MARGIN
 
 __all__ = [
@@ -75,23 +75,11 @@ class GrashofClass(enum.Enum):
 
 
 def _require_finite_positive(name: str, value: float) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise SpecError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(x) or x <= 0.0:
-        raise SpecError.out_of_range(name, value, "a finite length > 0 mm")
-    return x
+    return finite_positive(name, value)
 
 
 def _require_finite(name: str, value: float) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError):
-        raise SpecError(f"{name} must be a number, got {value!r}") from None
-    if not math.isfinite(x):
-        raise SpecError.out_of_range(name, value, "finite")
-    return x
+    return check_number(name, value, -MAX_MAGNITUDE, MAX_MAGNITUDE)
 
 
 def _as_xy(c: np.ndarray) -> np.ndarray:

@@ -38,9 +38,9 @@ from enum import StrEnum
 import numpy as np
 from scipy import optimize
 
-from transplanter.errors import GeometryError, SpecError, finite_positive
+from transplanter.errors import GeometryError, SpecError, check_int, finite_positive
 from transplanter.pitch.curve import PitchCurve
-from transplanter.pitch.periodic import Periodic, PeriodicIntegral, Scaled, quintic_hermite
+from transplanter.pitch.periodic import MAX_LOBES, Periodic, PeriodicIntegral, Scaled, quintic_hermite
 from transplanter.tolerances import PITCH_CLOSURE_RAD
 
 __all__ = ["Mesh", "GearPair", "ConjugateRadius", "RatioRadius", "ToothSizing", "ConvexityIndex"]
@@ -49,6 +49,13 @@ __all__ = ["Mesh", "GearPair", "ConjugateRadius", "RatioRadius", "ToothSizing", 
 class Mesh(StrEnum):
     EXTERNAL = "external"
     INTERNAL = "internal"
+
+
+def _mesh(mesh) -> Mesh:
+    try:
+        return Mesh(mesh)
+    except ValueError as exc:
+        raise SpecError.out_of_range("mesh", mesh, "'external' or 'internal'") from exc
 
 
 def _affine(mesh: Mesh, n1: int, n2: int) -> tuple[float, float, float]:
@@ -221,9 +228,8 @@ class GearPair:
         ``centre_distance`` (mm) is solved so that both curves close unless given; a given
         value must close them within ``PITCH_CLOSURE_RAD``.
         """
-        mesh = Mesh(mesh)
-        if not isinstance(driven_lobes, int | np.integer) or driven_lobes < 1:
-            raise SpecError.out_of_range("driven_lobes", driven_lobes, "an integer >= 1")
+        mesh = _mesh(mesh)
+        driven_lobes = check_int("driven_lobes", driven_lobes, 1, MAX_LOBES)
         n1, n2 = driver.lobes, int(driven_lobes)
         c0, c1, _ = _affine(mesh, n1, n2)
         r1 = driver.radius
@@ -293,7 +299,7 @@ class GearPair:
         ``ring`` (internal pairs) says which gear is the ring: ``"driven"`` (needs i < 1 —
         the ring turns slower) or ``"driver"`` (needs i > 1).
         """
-        mesh = Mesh(mesh)
+        mesh = _mesh(mesh)
         a = finite_positive("centre_distance", centre_distance)
         if not isinstance(ratio, Periodic):
             raise SpecError(f"ratio must be a transplanter.pitch.periodic.Periodic, got {type(ratio).__name__}")

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import BSpline, PPoly, make_interp_spline
 
-from transplanter.errors import SpecError, finite_array, finite_positive
+from transplanter.errors import SpecError, check_int, finite_array, finite_positive
 
 __all__ = [
     "Periodic",
@@ -57,10 +57,12 @@ def _check_nu(nu: int) -> None:
 
 
 def check_lobes(lobes) -> int:
-    """``lobes`` as an int >= 1, or SpecError."""
-    if not isinstance(lobes, int | np.integer) or lobes < 1:
-        raise SpecError.out_of_range("lobes", lobes, "an integer >= 1")
-    return int(lobes)
+    """``lobes`` as an int from 1 to MAX_LOBES, or SpecError."""
+    return check_int("lobes", lobes, 1, MAX_LOBES)
+
+
+#: more lobes than this cannot carry even one tooth each at any module worth cutting
+MAX_LOBES = 1000
 
 
 class Periodic:
