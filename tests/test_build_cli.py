@@ -261,6 +261,7 @@ def test_check_command_catches_a_tampered_part(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "file pair.driven.dxf: changed since the build" in out
     assert "pair: PROBLEM: dxf: the teeth interfere at the pitch point" in out and "FAILED" in out
+    assert "pair: PROBLEM: pair.driven.dxf: its contour is the design turned by 2.00 deg" in out
     manifest = json.loads((fam / "manifest.json").read_text())
     manifest["parts"]["pair"] = {"error": "GeometryError: made up"}
     (fam / "manifest.json").write_text(json.dumps(manifest))

@@ -34,7 +34,7 @@ import math
 
 import numpy as np
 
-from transplanter.errors import SpecError, finite_positive
+from transplanter.errors import SpecError, check_number, finite_positive
 from transplanter.tolerances import WIRE_EDM_TOLERANCE
 
 __all__ = ["design_backlash", "tolerance_budget", "backlash_band", "resolve_backlash"]
@@ -58,9 +58,7 @@ def design_backlash(module: float, centre_distance: float, pressure_angle: float
 
 def tolerance_budget(tolerance: float = WIRE_EDM_TOLERANCE, pressure_angle: float = _ALPHA) -> float:
     """Circumferential play (mm) a ±``tolerance`` shop can take away in the worst case."""
-    t = float(tolerance)
-    if not (math.isfinite(t) and t >= 0):
-        raise SpecError.out_of_range("tolerance", tolerance, "finite and >= 0 mm")
+    t = check_number("tolerance", tolerance, 0.0, 1.0, unit="mm")
     return 4 * t / math.cos(pressure_angle) + 4 * t * math.tan(pressure_angle)
 
 
@@ -71,12 +69,7 @@ def resolve_backlash(backlash, thickening: float, module: float, centre_distance
         if thickening != 0:
             return 2 * float(thickening)
         return design_backlash(module, centre_distance, pressure_angle)
-    try:
-        j = float(backlash)
-    except (TypeError, ValueError) as exc:
-        raise SpecError(f"backlash must be a number of mm, got {backlash!r}") from exc
-    if not (math.isfinite(j) and 0 <= j < module):
-        raise SpecError.out_of_range("backlash", backlash, f"0 <= backlash < m = {module:g} mm")
+    j = check_number("backlash", backlash, 0.0, float(module), high_open=True, unit="mm")
     if thickening != 0 and abs(2 * thickening - j) > 1e-12:
         raise SpecError(
             f"backlash = {j!r} mm and cutter thickening = {thickening!r} mm state the play twice; give the backlash "

@@ -34,7 +34,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from transplanter.errors import GeometryError, SpecError, check_int, check_number, finite_positive
+from transplanter.errors import MAX_MAGNITUDE, GeometryError, SpecError, check_int, check_number, finite_positive
 from transplanter.pitch.periodic import Periodic
 
 __all__ = [
@@ -87,9 +87,16 @@ class MotionProgram(Periodic):
     period: float = field(default=TWO_PI, init=False)
 
     def __post_init__(self) -> None:
-        segs = tuple((float(d), float(c), str(law)) for d, c, law in self.segments)
-        if not segs or any(not (math.isfinite(d) and d > 0 and math.isfinite(c)) for d, c, _ in segs):
-            raise SpecError("motion segments need finite durations > 0 and finite changes")
+        segs = tuple(
+            (
+                check_number("segment duration", d, 0.0, TWO_PI, low_open=True, unit="rad"),
+                check_number("segment change", c, -MAX_MAGNITUDE, MAX_MAGNITUDE),
+                str(law),
+            )
+            for d, c, law in self.segments
+        )
+        if not segs:
+            raise SpecError("a motion program needs at least one segment")
         total = sum(d for d, _, _ in segs)
         if abs(total - TWO_PI) > 1e-9:
             raise SpecError.out_of_range("sum of segment durations", total, "2π rad (one cam turn)")

@@ -46,7 +46,7 @@ from typing import Protocol
 
 import numpy as np
 
-from transplanter.errors import SpecError, finite_positive
+from transplanter.errors import MAX_MAGNITUDE, SpecError, check_int, check_number, finite_positive
 
 __all__ = ["Transmission", "ArmGeometry", "ArmState", "DifferentialTrain"]
 
@@ -90,8 +90,7 @@ class ArmGeometry:
         finite_positive("knee (H1)", self.knee)
         if not self.knee < self.tip:
             raise SpecError.out_of_range("knee (H1)", self.knee, f"< tip S = {self.tip} mm (acos(H1/S) must exist)")
-        if not math.isfinite(self.mount):
-            raise SpecError.out_of_range("mount (β)", self.mount, "finite")
+        check_number("mount (β)", self.mount, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="rad")
 
     @property
     def knee_angle(self) -> float:
@@ -161,15 +160,13 @@ class DifferentialTrain:
     def __post_init__(self) -> None:
         if getattr(self.pair, "ring", None) != "driver":
             raise SpecError("pair must be an internal pair with the ring as driver (GearPair.from_driver(ring, ...))")
-        if not isinstance(self.planets, int) or self.planets < 1:
-            raise SpecError.out_of_range("planets", self.planets, "an integer >= 1")
-        if not math.isfinite(self.carrier_start):
-            raise SpecError.out_of_range("carrier_start (φH0)", self.carrier_start, "finite")
+        check_int("planets", self.planets, 1, 64)
+        check_number("carrier_start (φH0)", self.carrier_start, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="rad")
         finite_positive("carrier_speed", self.carrier_speed)
         n1, n2 = self.pair.lobes
         if self.speed_ratio is None:
             object.__setattr__(self, "speed_ratio", 1.0 - n2 / n1)
-        elif not math.isfinite(self.speed_ratio) or self.speed_ratio == 1.0:
+        elif check_number("speed_ratio ω1/ω2", self.speed_ratio, -1e3, 1e3) == 1.0:
             raise SpecError.out_of_range("speed_ratio ω1/ω2", self.speed_ratio, "finite and != 1 (differential)")
 
     @property

@@ -33,7 +33,7 @@ import manifold3d
 import numpy as np
 import shapely
 
-from transplanter.errors import GeometryError, SpecError, finite_positive
+from transplanter.errors import MAX_MAGNITUDE, GeometryError, SpecError, check_number, finite_positive
 
 __all__ = ["Key", "key_for", "Features", "circle_polygon", "part_section", "part_solid", "check_solid"]
 
@@ -109,8 +109,8 @@ class Features:
             if self.keyway:
                 key_for(self.bore)
         for x, y, dia in self.holes:
-            if not (math.isfinite(x) and math.isfinite(y)):
-                raise SpecError.out_of_range("hole centre", (x, y), "finite")
+            check_number("hole centre x", x, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="mm")
+            check_number("hole centre y", y, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="mm")
             finite_positive("hole diameter", dia)
 
     @classmethod

@@ -65,6 +65,7 @@ __all__ = [
     "train_check",
     "FollowerReport",
     "follower_check",
+    "turned_by",
 ]
 
 #: overlap area (mm²) that counts as interference: the outlines are exact to 0.25 µm chords,
@@ -445,3 +446,24 @@ def follower_check(contour, motion, follower, n: int = 720) -> FollowerReport:
         err = err * follower.arm_length  # swing error as displacement at the roller
         unit = "rad"
     return FollowerReport(theta, law, actual, err, unit)
+
+
+def turned_by(made, design, max_deg: float = 10.0, band: float = 2e-3) -> float | None:
+    """The angle (deg, counter-clockwise about the origin) by which the ``made`` contour
+    (shapely polygon) is turned from the ``design``, or None when they already agree (on average
+    within ``band`` mm along the contour) or no turn within ``max_deg`` makes them agree.
+
+    ``check`` uses it to say "this file was rotated" instead of letting the meshing figures blame
+    the centre distance or the tooth counts."""
+    limit = band * design.exterior.length
+
+    def mismatch(deg: float) -> float:
+        turned = shapely.affinity.rotate(made, -deg, origin=(0.0, 0.0))
+        return float(shapely.symmetric_difference(turned, design).area)
+
+    if mismatch(0.0) <= limit:
+        return None
+    scan = np.arange(-max_deg, max_deg + 1e-9, 0.25)
+    k = int(np.argmin([mismatch(a) for a in scan]))
+    best = optimize.minimize_scalar(mismatch, bounds=(scan[k] - 0.25, scan[k] + 0.25), method="bounded")
+    return float(best.x) if best.fun <= limit else None

@@ -441,7 +441,35 @@ class ToothedPairStudy:
             files[f"{self.name}.teeth.{fmt}"] = plots.figure_bytes(fig, fmt)
         return {"kind": "toothed_pair", "parameters": params, "results": results}, files
 
+    def _turned(self, files: dict[str, bytes]) -> list[str]:
+        """A DXF whose toothed contour is the design turned about its axis, said in those words."""
+        out = []
+        for role, internal in zip(("driver", "driven"), self._internal, strict=True):
+            csv_name, dxf_name = f"{self.name}.{role}.outline.csv", f"{self.name}.{role}.dxf"
+            if csv_name not in files or dxf_name not in files:
+                continue
+            try:
+                design = shapely.Polygon(csv_array(files[csv_name]))
+                section = dxf.read_section(files[dxf_name])
+            except Exception:  # unreadable files are reported by the meshing check
+                continue
+            rings = [section.exterior] if not internal else sorted(section.interiors, key=lambda r: -r.length)[:1]
+            if not rings:
+                continue
+            angle = validate.turned_by(shapely.Polygon(rings[0]), design)
+            if angle is not None:
+                out.append(
+                    f"{dxf_name}: its contour is the design turned by {angle:.2f} deg about the gear's axis — the "
+                    "file was rotated after the build (any interference below follows from that)"
+                )
+        return out
+
+    @property
+    def _internal(self) -> tuple[bool, bool]:
+        return (self.pair.ring == "driver", self.pair.ring == "driven")
+
     def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
-        """Re-run the meshing checks on this part's files as found on disk."""
+        """Re-run the meshing checks on this part's files as found on disk (and say so when a
+        DXF is the design turned about its axis)."""
         results, _, problems = self.meshing_results(self.meshing(files))
-        return results, problems
+        return results, self._turned(files) + problems

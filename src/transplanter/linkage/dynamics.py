@@ -37,7 +37,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from transplanter.errors import SpecError
+from transplanter.errors import MAX_MAGNITUDE, SpecError, check_number
 from transplanter.linkage.fourbar import FourBar, FourBarMotion, Link, PointMotion
 
 __all__ = [
@@ -74,15 +74,9 @@ class LinkMass:
     inertia: float = 0.0
 
     def __post_init__(self) -> None:
-        m = float(self.mass)
-        if not math.isfinite(m) or m < 0.0:
-            raise SpecError.out_of_range("mass", self.mass, "finite and >= 0 kg")
-        u, v = (float(x) for x in self.com)
-        if not (math.isfinite(u) and math.isfinite(v)):
-            raise SpecError.out_of_range("com", self.com, "finite (u, v) in mm")
-        j = float(self.inertia)
-        if not math.isfinite(j) or j < 0.0:
-            raise SpecError.out_of_range("inertia", self.inertia, "finite and >= 0 kg mm^2")
+        m = check_number("mass", self.mass, 0.0, unit="kg")
+        u, v = (check_number("com", x, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="mm") for x in self.com)
+        j = check_number("inertia", self.inertia, 0.0, None, unit="kg mm^2")
         object.__setattr__(self, "mass", m)
         object.__setattr__(self, "com", (u, v))
         object.__setattr__(self, "inertia", j)
@@ -140,8 +134,7 @@ class Counterweight:
 
     def radius_for(self, mass: float) -> float:
         """mm, radius at which a mass (kg) gives this mass moment."""
-        if not (math.isfinite(mass) and mass > 0.0):
-            raise SpecError.out_of_range("mass", mass, "finite and > 0 kg")
+        mass = check_number("mass", mass, 0.0, low_open=True, unit="kg")
         return self.mass_moment / mass
 
 

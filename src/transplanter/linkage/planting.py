@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import integrate, optimize
 
-from transplanter.errors import GeometryError, SpecError
+from transplanter.errors import MAX_MAGNITUDE, GeometryError, SpecError, check_number
 from transplanter.extrema import refine_extreme
 from transplanter.linkage.dh import DHFourBar
 from transplanter.linkage.fourbar import FourBar, Link, PointMotion
@@ -178,16 +178,12 @@ class PlantingArm:
     name: str = "arm"
 
     def __post_init__(self) -> None:
-        u, v = (float(x) for x in self.tip)
-        if not (math.isfinite(u) and math.isfinite(v)):
-            raise SpecError.out_of_range("tip", self.tip, "finite (u, v) in mm")
+        u, v = (check_number("tip", x, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="mm") for x in self.tip)
         object.__setattr__(self, "tip", (u, v))
-        w = float(self.crank_speed)
-        if not math.isfinite(w) or w == 0.0:
-            raise SpecError.out_of_range("crank_speed", self.crank_speed, "finite and non-zero (rad/s)")
-        vf = float(self.forward_speed)
-        if not math.isfinite(vf) or vf < 0.0:
-            raise SpecError.out_of_range("forward_speed", self.forward_speed, "finite and >= 0 mm/s")
+        w = check_number("crank_speed", self.crank_speed, -1e4, 1e4, unit="rad/s")
+        if w == 0.0:
+            raise SpecError.out_of_range("crank_speed", self.crank_speed, "non-zero (rad/s)")
+        check_number("forward_speed", self.forward_speed, 0.0, unit="mm/s")
         self.linkage.require_full_rotation()
 
     @classmethod

@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import BSpline, PPoly, make_interp_spline
 
-from transplanter.errors import SpecError, check_int, finite_array, finite_positive
+from transplanter.errors import SpecError, check_int, check_number, finite_array, finite_positive
 
 __all__ = [
     "Periodic",
@@ -224,9 +224,7 @@ class FocalEllipse(_Lobed):
 
     def __init__(self, semi_major: float, eccentricity: float, lobes: int = 1) -> None:
         finite_positive("semi_major", semi_major)
-        e = float(eccentricity)
-        if not math.isfinite(e) or not 0 <= e < 1:
-            raise SpecError.out_of_range("eccentricity", eccentricity, "0 <= e < 1")
+        e = check_number("eccentricity", eccentricity, 0.0, 1.0, high_open=True)
         lobes = check_lobes(lobes)
         object.__setattr__(self, "semi_major", float(semi_major))
         object.__setattr__(self, "eccentricity", e)
@@ -260,9 +258,7 @@ class EccentricCircle(Periodic):
 
     def __post_init__(self) -> None:
         finite_positive("radius", self.radius)
-        e = float(self.offset)
-        if not math.isfinite(e) or not 0 <= e < self.radius:
-            raise SpecError.out_of_range("offset", self.offset, f"0 <= offset < radius ({self.radius})")
+        check_number("offset", self.offset, 0.0, float(self.radius), high_open=True, unit="mm")
 
     period = 2 * math.pi
     breakpoints = np.zeros(0)
