@@ -20,6 +20,7 @@ from transplanter.linkage.planting import PlantingArm, PlantingMetrics  # noqa: 
 
 __all__ = [
     "figure_bytes",
+    "figure_files",
     "coupler_curve_figure",
     "kinematics_figure",
     "shaking_figure",
@@ -38,15 +39,29 @@ _METADATA = {
 }
 
 
-def figure_bytes(fig: plt.Figure, fmt: str) -> bytes:
-    """Render and close ``fig``; ``fmt`` is "png" or "svg"."""
+def _render(fig: plt.Figure, fmt: str) -> bytes:
     if fmt not in _METADATA:
         raise ValueError(f"fmt must be 'png' or 'svg', got {fmt!r}")
     buf = io.BytesIO()
     with matplotlib.rc_context({"svg.hashsalt": "transplanter", "svg.fonttype": "none"}):
         fig.savefig(buf, format=fmt, dpi=110, metadata=_METADATA[fmt])
-    plt.close(fig)
     return buf.getvalue()
+
+
+def figure_bytes(fig: plt.Figure, fmt: str) -> bytes:
+    """Render and close ``fig``; ``fmt`` is "png" or "svg"."""
+    try:
+        return _render(fig, fmt)
+    finally:
+        plt.close(fig)
+
+
+def figure_files(fig: plt.Figure, stem: str) -> dict[str, bytes]:
+    """``{stem.png: ..., stem.svg: ...}`` from one figure (built once, saved twice), then closed."""
+    try:
+        return {f"{stem}.{fmt}": _render(fig, fmt) for fmt in ("png", "svg")}
+    finally:
+        plt.close(fig)
 
 
 def _plan_view(ax, title: str | None = None, unit: str = "mm") -> None:

@@ -80,12 +80,8 @@ class CamStudy:
                     f"{source}: the follower on the made cam misses the law by {rep.error[k] * 1000:.2f} µm at cam "
                     f"angle {math.degrees(rep.theta[k]):.1f} deg (limit {FOLLOWER_TOL * 1000:g} µm)"
                 )
-        files = {
-            f"{self.name}.follower.{fmt}": plots.figure_bytes(
-                plots.follower_figure({k: v for k, v in reports.items() if not isinstance(v, str)}, self.name), fmt
-            )
-            for fmt in ("png", "svg")
-        }
+        readable = {k: v for k, v in reports.items() if not isinstance(v, str)}
+        files = plots.figure_files(plots.follower_figure(readable, self.name), f"{self.name}.follower")
         return results, files, problems
 
     def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
@@ -117,8 +113,7 @@ class CamStudy:
             [f"{t:.6f}", f"{x:.9f}", f"{y:.9f}"] for t, (x, y) in zip(np.degrees(cam.theta), cam.profile, strict=True)
         ]
         files = {f"{self.name}.profile.csv": csv_bytes(["cam_angle_deg", "x_mm", "y_mm"], rows)}
-        for fmt in ("png", "svg"):
-            files[f"{self.name}.cam.{fmt}"] = plots.figure_bytes(plots.cam_figure(cam, self.name), fmt)
+        files.update(plots.figure_files(plots.cam_figure(cam, self.name), f"{self.name}.cam"))
         if self.making is not None:
             blank = shapely.Polygon(cam.profile)
             notes = (

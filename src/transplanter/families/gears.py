@@ -291,10 +291,9 @@ class ToothedPairStudy:
         files = {}
         shown = trains.get("stl", trains.get("outline"))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
-        for fmt in ("png", "svg"):
-            readable = {k: v for k, v in reports.items() if not isinstance(v, str)}
-            fig = plots.meshing_figure(readable, self.name, shown, note, band=band)
-            files[f"{self.name}.meshing.{fmt}"] = plots.figure_bytes(fig, fmt)
+        readable = {k: v for k, v in reports.items() if not isinstance(v, str)}
+        fig = plots.meshing_figure(readable, self.name, shown, note, band=band)
+        files.update(plots.figure_files(fig, f"{self.name}.meshing"))
         return results, files, problems
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
@@ -429,16 +428,15 @@ class ToothedPairStudy:
                 findings[label] = "generated without error"
         results["rejected_alternatives"] = findings
         files[f"{self.name}.teeth.json"] = json_bytes({"parameters": params, "results": results})
-        for fmt in ("png", "svg"):
-            fig = plots.toothed_pair_figure(
-                gears[0].polygon,
-                gears[1].polygon,
-                pair.centre_distance,
-                pair.mesh is Mesh.EXTERNAL,
-                float(pair.driver.r(0.0)),
-                self.name,
-            )
-            files[f"{self.name}.teeth.{fmt}"] = plots.figure_bytes(fig, fmt)
+        fig = plots.toothed_pair_figure(
+            gears[0].polygon,
+            gears[1].polygon,
+            pair.centre_distance,
+            pair.mesh is Mesh.EXTERNAL,
+            float(pair.driver.r(0.0)),
+            self.name,
+        )
+        files.update(plots.figure_files(fig, f"{self.name}.teeth"))
         return {"kind": "toothed_pair", "parameters": params, "results": results}, files
 
     def _turned(self, files: dict[str, bytes]) -> list[str]:

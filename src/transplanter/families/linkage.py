@@ -42,11 +42,10 @@ class ArmStudy:
 
     def plot_files(self, m: PlantingMetrics) -> dict[str, bytes]:
         """Tip path and speed/acceleration diagrams, PNG and SVG, by file name."""
-        files = {}
-        for fmt in ("png", "svg"):
-            files[f"{self.name}.path.{fmt}"] = plots.figure_bytes(plots.coupler_curve_figure(self.arm, m), fmt)
-            files[f"{self.name}.kinematics.{fmt}"] = plots.figure_bytes(plots.kinematics_figure(self.arm, m), fmt)
-        return files
+        return {
+            **plots.figure_files(plots.coupler_curve_figure(self.arm, m), f"{self.name}.path"),
+            **plots.figure_files(plots.kinematics_figure(self.arm, m), f"{self.name}.kinematics"),
+        }
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         m = self.arm.metrics(planting_depth=self.planting_depth)
@@ -148,7 +147,6 @@ class BalancingStudy:
         }
         files = {f"{self.name}.balancing.json": json_bytes({"parameters": params, "results": results})}
         deg = np.degrees(rel)
-        for fmt in ("png", "svg"):
-            fig = plots.shaking_figure(deg, force, torque, f"{self.name}: shaking force and crank torque")
-            files[f"{self.name}.shaking.{fmt}"] = plots.figure_bytes(fig, fmt)
+        fig = plots.shaking_figure(deg, force, torque, f"{self.name}: shaking force and crank torque")
+        files.update(plots.figure_files(fig, f"{self.name}.shaking"))
         return {"kind": "balancing", "parameters": params, "results": results}, files

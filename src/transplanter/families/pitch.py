@@ -73,6 +73,5 @@ class PitchPairStudy:
             pts = curve.points(phi)
             rows = [[f"{a:.6f}", f"{x:.9f}", f"{y:.9f}"] for a, (x, y) in zip(np.degrees(phi), pts, strict=True)]
             files[f"{self.name}.{role}.csv"] = csv_bytes(["polar_angle_deg", "x_mm", "y_mm"], rows)
-        for fmt in ("png", "svg"):
-            files[f"{self.name}.pitch.{fmt}"] = plots.figure_bytes(plots.pitch_pair_figure(pair, self.name), fmt)
+        files.update(plots.figure_files(plots.pitch_pair_figure(pair, self.name), f"{self.name}.pitch"))
         return {"kind": "pitch_pair", "parameters": params, "results": results}, files

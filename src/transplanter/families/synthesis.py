@@ -80,8 +80,6 @@ class SynthesisStudy:
                 ],
             ),
         }
-        for fmt in ("png", "svg"):
-            files[f"{self.name}.synthesis.{fmt}"] = plots.figure_bytes(
-                plots.synthesis_figure(ch, sample, feasible, self.name), fmt
-            )
+        fig = plots.synthesis_figure(ch, sample, feasible, self.name)
+        files.update(plots.figure_files(fig, f"{self.name}.synthesis"))
         return {"kind": "synthesis", "parameters": params, "results": results}, files

@@ -79,7 +79,6 @@ class PlanetaryStudy:
                 ["carrier_angle_deg", "tip_x_mm", "tip_y_mm", "attitude_deg"], traj
             ),
         }
-        for fmt in ("png", "svg"):
-            fig = plots.planetary_trajectory_figure(tr, m, self.name, self.seedling_box)
-            files[f"{self.name}.trajectory.{fmt}"] = plots.figure_bytes(fig, fmt)
+        fig = plots.planetary_trajectory_figure(tr, m, self.name, self.seedling_box)
+        files.update(plots.figure_files(fig, f"{self.name}.trajectory"))
         return {"kind": "planetary", "parameters": params, "results": results}, files
