@@ -24,6 +24,7 @@ from transplanter.cams import MotionProgram, OscillatingRollerFollower, Translat
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, PartScriptError, SpecError, TransplanterError
 from transplanter.export import Transaction, leftovers, recover
+from transplanter.families import Making, ToothedPairStudy
 from transplanter.linkage.burmester import FourPoses, Pose
 from transplanter.linkage.dh import DHFourBar
 from transplanter.linkage.fourbar import FourBar
@@ -152,6 +153,14 @@ CATALOGUE = [
     ("lobes=2**63", lambda: PitchCurve.ellipse(20.0, 0.1, 2**63), SpecError, r"lobes = 9223372036854775808"),
     ("length 1e308 (curve)", lambda: PitchCurve.ellipse(1e308, 0.1, 2), SpecError, r"semi_major = 1e\+308"),
     ("length 1e308 (four-bar)", lambda: FourBar(1e308, 40, 100, 85), SpecError, r"= 1e\+308 .* <= 1e\+06"),
+    ("NaN face width", lambda: Making(math.nan), SpecError, r"face width = nan"),
+    ("wire of 0 mm", lambda: Making(6.0, wire=(0.0, 0.02)), SpecError, r"wire diameter = 0.0 .* > 0 mm"),
+    (
+        "meshing steps 0",
+        lambda: ToothedPairStudy("p", _pair()[0], ShaperCutter(12, 2.0), 20, mesh_steps=0),
+        SpecError,
+        r"mesh_steps = 0 .* integer from 4",
+    ),
     # unclear before
     (
         "negative addendum",
@@ -225,9 +234,12 @@ def test_cli_part_script_exit_is_a_clear_error(tmp_path, source, code, message):
     assert "Traceback" not in r.stderr
 
 
-def test_cli_a_folder_given_as_a_script(tmp_path, capsys):
-    assert cli.main(["build", str(tmp_path), "-o", str(tmp_path / "out")]) == 2
-    assert "is a folder, not a part script" in capsys.readouterr().err
+def test_cli_a_folder_given_as_a_script(tmp_path):
+    r = _run("build", str(tmp_path), "-o", str(tmp_path / "out"))
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert r.stderr.strip().splitlines()[-1] == (
+        f"transplanter: error: {tmp_path} is a folder, not a part script (give a .py file, or --parts {tmp_path})"
+    )
 
 
 def test_cli_disk_full_exits_1(tmp_path, monkeypatch, capsys):
@@ -412,6 +424,7 @@ def _constructors(v, w):
     yield lambda: MotionProgram.rise_return(lift=v, rise=math.radians(120), dwell=w, ret=math.radians(120))
     yield lambda: dxf.DxfPart("p", _BLANK, start_hole=v)
     yield lambda: GearPair.from_driver(PitchCurve.ellipse(40.0, 0.1, 2), "external", 2, centre_distance=v)
+    yield lambda: Making(v, wire=(w, 0.02))
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])

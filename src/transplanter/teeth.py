@@ -498,13 +498,7 @@ def _per_gear(name: str, value) -> tuple[float, float]:
     pair = value if isinstance(value, tuple | list) else (value, value)
     if len(pair) != 2:
         raise SpecError.out_of_range(name, value, "a number or a (driver, driven) pair of numbers")
-    try:
-        out = (float(pair[0]), float(pair[1]))
-    except (TypeError, ValueError) as exc:
-        raise SpecError(f"{name} must be numbers, got {value!r}") from exc
-    if not all(math.isfinite(v) for v in out):
-        raise SpecError.out_of_range(name, value, "finite")
-    return out
+    return (check_number(f"{name} (driver)", pair[0], -2.0, 2.0), check_number(f"{name} (driven)", pair[1], -2.0, 2.0))
 
 
 def generate_pair(

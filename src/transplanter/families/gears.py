@@ -14,7 +14,7 @@ import shapely
 from transplanter import dxf, plots, solids, stl, validate
 from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
 from transplanter.cutter import ShaperCutter
-from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError
+from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
 from transplanter.families.making import Making, manufacture, read_shop_file
 from transplanter.interference import pair_limits
@@ -127,6 +127,16 @@ class ToothedPairStudy:
     trim_ring_tips: bool = True
     #: meshing-check steps per driver turn (raised to be coprime with the driver's tooth count)
     mesh_steps: int = MESH_STEPS
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.pair, GearPair):
+            raise SpecError(f"{self.name}: pair must be a pitch.GearPair, got {type(self.pair).__name__}")
+        if not isinstance(self.cutter, ShaperCutter):
+            raise SpecError(f"{self.name}: cutter must be a ShaperCutter, got {type(self.cutter).__name__}")
+        check_int("mesh_steps", self.mesh_steps, 4, 100_000)
+        check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
+        if self.making is not None and (len(self.making) != 2 or not all(isinstance(m, Making) for m in self.making)):
+            raise SpecError(f"{self.name}: making must be a (driver, driven) pair of Making")
 
     def _sized(self) -> tuple[GearPair, object]:
         pair, sizing = self.pair.sized(teeth=self.teeth)

@@ -8,7 +8,7 @@ import numpy as np
 import shapely
 
 from transplanter import dxf, solids, stl
-from transplanter.errors import ExportError, GeometryError
+from transplanter.errors import ExportError, GeometryError, SpecError, check_number, finite_positive
 from transplanter.export import rounded, significant
 from transplanter.tolerances import DXF_READBACK_MM
 
@@ -27,6 +27,18 @@ class Making:
     features: solids.Features = field(default_factory=solids.Features)
     wire: tuple[float, float] = (0.25, 0.02)
     dxf_versions: tuple[str, ...] = ("R2000",)
+
+    def __post_init__(self) -> None:
+        finite_positive("face width", self.width)
+        if not isinstance(self.features, solids.Features):
+            raise SpecError(f"features must be solids.Features, got {type(self.features).__name__}")
+        if not isinstance(self.wire, tuple | list) or len(self.wire) != 2:
+            raise SpecError.out_of_range("wire", self.wire, "(diameter, spark gap) in mm")
+        check_number("wire diameter", self.wire[0], 0.0, 5.0, low_open=True, unit="mm")
+        check_number("wire spark gap", self.wire[1], 0.0, 1.0, unit="mm")
+        for v in self.dxf_versions:
+            if v not in ("R2000", "R12"):
+                raise SpecError.out_of_range("dxf_versions", self.dxf_versions, "'R2000' and/or 'R12'")
 
 
 def _matching(src: np.ndarray, contours: list[np.ndarray]) -> np.ndarray:
