@@ -162,3 +162,16 @@ def test_seed004_family_builds(built):
     rejected = teeth["rejected_alternatives"]
     assert "cutter-curve interference" in rejected["paper module (80/20 teeth, 12-tooth cutter)"]
     assert "undercut" in rejected["m = 0.71 mm (320/80 teeth, 8-tooth cutter)"]
+
+
+@pytest.mark.parametrize("n1, n2, planets, ok", [(4, 1, 3, True), (8, 2, 3, True), (5, 2, 3, False), (9, 3, 3, False)])
+def test_arms_are_copies_only_when_the_lobe_numbers_allow(n1, n2, planets, ok):
+    """(n1 - n2)/(N n2) whole: the arms are copies (phase error at round-off); otherwise the
+    constructor refuses (the phase error would be hundreds of millimetres)."""
+    pair = GearPair.from_driver(PitchCurve.ellipse(80.0, 0.08, lobes=n1), "internal", driven_lobes=n2)
+    arm = ArmGeometry(tip=150.0, knee=80.0, mount=-0.7)
+    if ok:
+        assert DifferentialTrain(pair, arm, carrier_start=0.7, planets=planets).phase_error() < 1e-9
+    else:
+        with pytest.raises(SpecError, match=r"would not be copies of each other: .* must be a whole number"):
+            DifferentialTrain(pair, arm, carrier_start=0.7, planets=planets)

@@ -22,9 +22,13 @@ checks that they really are copies of one another shifted by 2π/N of carrier ro
 
 The default speed ratio ``ω1/ω2 = 1 - n2/n1`` (n1 ring lobes, n2 planet lobes) makes the
 planet turn exactly once relative to the carrier per carrier turn, i.e. the arm returns to
-the same attitude every cycle without net rotation, as a transplanting arm must. For a ring
-with n1 lobes and N planets the arms are identical iff ``(1 - n2/n1) n1 / N`` is an integer
-(with n2 = 1: n1 = 4, 7, ... for N = 3; seed 004's n = 4 is the smallest).
+the same attitude every cycle without net rotation, as a transplanting arm must. The N arms
+are copies of each other only if the next arm's planet finds the ring and its own attitude as
+the first will after 2π/N of carrier rotation: the ring then turns ``(ω1/ω2) 2π/N`` relative
+to that arm's contact, and the state repeats only every n2 ring lobes (a planet lobe meshes a
+ring lobe, and the arm needs the planet's whole turn), so ``(ω1/ω2) n1 / (N n2)`` must be a
+whole number — with the default ratio ``(n1 - n2)/(N n2)`` (n2 = 1: n1 = 4, 7, ... for N = 3;
+seed 004's n = 4 is the smallest). The constructor refuses other combinations, naming them.
 
 Examples
 --------
@@ -168,6 +172,13 @@ class DifferentialTrain:
             object.__setattr__(self, "speed_ratio", 1.0 - n2 / n1)
         elif check_number("speed_ratio ω1/ω2", self.speed_ratio, -1e3, 1e3) == 1.0:
             raise SpecError.out_of_range("speed_ratio ω1/ω2", self.speed_ratio, "finite and != 1 (differential)")
+        copies = self.speed_ratio * n1 / (self.planets * n2)
+        if self.planets > 1 and abs(copies - round(copies)) > 1e-9:
+            raise SpecError(
+                f"the {self.planets} arms would not be copies of each other: (ω1/ω2)·n1/(N·n2) = "
+                f"{self.speed_ratio:.6g}·{n1}/({self.planets}·{n2}) = {copies:.6g} must be a whole number "
+                f"(with the default ratio: (n1 - n2)/(N·n2)); choose other lobe numbers or planets"
+            )
 
     @property
     def period(self) -> float:
