@@ -270,3 +270,29 @@ def test_check_command_catches_a_tampered_part(tmp_path, capsys):
     (fam / "manifest.json").unlink()
     assert cli.main(["check", str(fam)]) == 2
     assert "is not a built family folder (no manifest.json)" in capsys.readouterr().err
+
+
+def test_optimise_in_parallel_on_local_workers_and_a_dask_cluster(tmp_path, capsys):
+    """--workers 2 (a LocalCluster made for the run) and --scheduler ADDRESS (a cluster the user
+    runs; here a LocalCluster made by the test) evaluate the generations in parallel and give the
+    same result for the same seed; the part script's closure travels to the workers."""
+    from distributed import LocalCluster
+
+    script = tmp_path / "bowl.py"
+    script.write_text(
+        "from transplanter.optimise import Problem\n"
+        "OFFSET = 0.25\n"
+        "def problem():\n"
+        "    cost = lambda v: (v[0] - OFFSET) ** 2 + (v[1] - 1) ** 2\n"
+        "    return Problem('bowl', (('x', -2.0, 2.0), ('y', -1.0, 3.0)), cost)\n"
+    )
+    args = ["optimise", str(script), "--seed", "4", "--maxiter", "12", "--popsize", "6"]
+    assert cli.main([*args, "--workers", "2"]) == 0
+    local = json.loads(capsys.readouterr().out)
+    with LocalCluster(n_workers=1, threads_per_worker=2, processes=True, dashboard_address=None) as cluster:
+        assert cli.main([*args, "--scheduler", cluster.scheduler_address]) == 0
+    captured = capsys.readouterr()
+    remote = json.loads(captured.out)
+    assert local == remote and local["evaluation"] == "parallel (deferred updating)"
+    assert local["parameters"]["x"] == pytest.approx(0.25, abs=0.05)
+    assert 'at {"x":' in captured.err  # the best design so far, every generation

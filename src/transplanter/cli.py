@@ -125,16 +125,28 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     if not isinstance(problem, Problem):
         raise PartScriptError(f"{path}: problem() returned {type(problem).__name__}, expected optimise.Problem")
 
-    def progress(gen: int, best: float, _x) -> None:
-        print(f"generation {gen:4d}/{args.maxiter}: best cost {best:.6g}", file=sys.stderr, flush=True)
+    names = [name for name, _, _ in problem.variables]
 
-    res = optimise(problem, seed=args.seed, maxiter=args.maxiter, popsize=args.popsize, progress=progress)
+    def progress(gen: int, best: float, x) -> None:  # the best design so far, every generation
+        design = json.dumps({n: round(float(v), 6) for n, v in zip(names, x, strict=True)})
+        print(f"generation {gen:4d}/{args.maxiter}: best cost {best:.6g} at {design}", file=sys.stderr, flush=True)
+
+    res = optimise(
+        problem,
+        seed=args.seed,
+        maxiter=args.maxiter,
+        popsize=args.popsize,
+        progress=progress,
+        workers=args.workers,
+        scheduler=args.scheduler,
+    )
     out = {
         "problem": problem.name,
         "seed": args.seed,
         "cost": res.fun,
         "generations": res.generations,
         "evaluations": res.evaluations,
+        "evaluation": "serial" if args.workers == 1 and args.scheduler is None else "parallel (deferred updating)",
         "parameters": {k: round(v, 6) for k, v in res.named(problem).items()},
     }
     print(json.dumps(out, indent=2))
@@ -217,6 +229,8 @@ def main(argv: list[str] | None = None) -> int:
     o.add_argument("--seed", type=int, default=0, help="random seed (runs are reproducible)")
     o.add_argument("--maxiter", type=int, default=50, help="generations of differential evolution")
     o.add_argument("--popsize", type=int, default=15, help="population size per variable")
+    o.add_argument("--workers", type=int, default=1, help="evaluate candidates on N local processes (dask)")
+    o.add_argument("--scheduler", metavar="ADDRESS", help="evaluate candidates on this Dask cluster (tcp://host:port)")
     c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
     c.add_argument("folders", nargs="*", help="built family folders, or a folder of them (default: exports)")
     c.add_argument("--script", help="part script (default: the one recorded in the manifest)")
@@ -227,8 +241,8 @@ def main(argv: list[str] | None = None) -> int:
                 parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
             return _cmd_build(args)
         if args.command in ("optimise", "optimize"):
-            if args.maxiter < 1 or args.popsize < 1:
-                parser.error("--maxiter and --popsize must be >= 1")
+            if args.maxiter < 1 or args.popsize < 1 or args.workers < 1:
+                parser.error("--maxiter, --popsize and --workers must be >= 1")
             return _cmd_optimise(args)
         if args.command == "check":
             return _cmd_check(args)
