@@ -108,6 +108,9 @@ def test_ring60_pinion30_cutter20_is_refused_then_trimmed_and_meshes():
     cutter = ShaperCutter(20, 2.0)
     with pytest.raises(GeometryError, match=r"fillet interference.*ring addendum 1 m must be <= 0\.785 m"):
         generate_pair(pair, cutter, sizing.teeth)
+    # the other remedy, a cutter whose form circle sits lower on the pinion, is proposed with numbers
+    with pytest.raises(GeometryError, match=r"cutters that clear it at these addenda: 24 to 60 teeth"):
+        generate_pair(pair, cutter, sizing.teeth, addendum=(0.8, 1.0))
     j = design_backlash(2.0, pair.centre_distance)
     band = backlash_band(pair, j)
     ring, planet = generate_pair(pair, cutter, sizing.teeth, trim_ring_tips=True)

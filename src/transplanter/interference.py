@@ -131,8 +131,7 @@ class InternalLimits:
             out.append(
                 f"fillet interference: the {ring}'s tooth tips reach {-v:.3g} mm (along the line of action) below the "
                 f"{pinion}'s form circle at driver angle {at:.1f} deg; ring addendum {self.ring_addendum:g} m must be "
-                f"<= {self.max_ring_addendum:.3f} m (ring-tip trimming), or cut the {pinion} with a larger cutter "
-                "(its form circle moves down)"
+                f"<= {self.max_ring_addendum:.3f} m (ring-tip trimming)"
             )
         v, at = self._worst(self.cutter_trim)
         if v < 0 and not out:

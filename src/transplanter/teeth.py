@@ -43,7 +43,7 @@ from scipy.interpolate import PPoly
 
 from transplanter.backlash import resolve_backlash
 from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, SpecError, check_int, check_number
+from transplanter.errors import GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.interference import pair_limits
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
@@ -501,6 +501,33 @@ def _per_gear(name: str, value) -> tuple[float, float]:
     return (check_number(f"{name} (driver)", pair[0], -2.0, 2.0), check_number(f"{name} (driven)", pair[1], -2.0, 2.0))
 
 
+def _cutter_remedy(pair, cutter: ShaperCutter, add, sh) -> str:
+    """The shaper cutters (tooth counts) that would clear the closed-form limits with these
+    addenda and still roll on both pitch curves — the 'cutter choice' remedy, in words."""
+    r, p = (0, 1) if pair.ring == "driver" else (1, 0)
+    frames = [ArcFrame.from_curve(c) for c in (pair.driver, pair.driven)]
+    good = []
+    for z in range(8, 61):
+        try:
+            other = replace(cutter, teeth=z)
+            for k, frame in enumerate(frames):
+                _check_cutter_fits(frame, other, internal=k == r, shift=sh[k])
+            lim = pair_limits(
+                pair, other, ring_addendum=add[r], pinion_addendum=add[p], ring_shift=sh[r], pinion_shift=sh[p]
+            )
+        except TransplanterError:
+            continue
+        if not lim.problems():
+            good.append(z)
+    if not good:
+        return "; no shaper cutter of 8 to 60 teeth clears it at these addenda"
+    return (
+        f"; cutters that clear it at these addenda: {good[0]} to {good[-1]} teeth"
+        if good[-1] - good[0] + 1 == len(good)
+        else f"; cutters that clear it at these addenda: {', '.join(map(str, good))} teeth"
+    )
+
+
 def generate_pair(
     pair,
     cutter: ShaperCutter,
@@ -564,7 +591,11 @@ def generate_pair(
                 )
         found = lim.problems(names)
         if found and check_interference:
-            raise GeometryError("the internal pair interferes before cutting: " + "; ".join(found))
+            raise GeometryError(
+                "the internal pair interferes before cutting: "
+                + "; ".join(found)
+                + _cutter_remedy(pair, cutter, add, sh)
+            )
     driver = generate(
         pair.driver, cutter, teeth[0], internal=ring == "driver", phase=0.0, addendum=add[0], shift=sh[0], **kwargs
     )
