@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import io
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass
 
 import ezdxf
@@ -281,6 +282,20 @@ def _new_doc(version: str, setup: bool = False):
     return doc
 
 
+@contextmanager
+def _writing(what: str):
+    """Build a document with ezdxf's fixed metadata (byte-identical rebuilds); its errors become
+    ExportError naming ``what``."""
+    previous = ezdxf.options.write_fixed_meta_data_for_testing
+    ezdxf.options.write_fixed_meta_data_for_testing = True
+    try:
+        yield
+    except (ezdxf.DXFError, OSError) as exc:
+        raise ExportError(f"cannot write {what}: {exc}") from exc
+    finally:
+        ezdxf.options.write_fixed_meta_data_for_testing = previous
+
+
 def _write(doc) -> bytes:
     buf = io.StringIO()
     doc.write(buf)
@@ -313,9 +328,7 @@ def section_arcs(section: shapely.Polygon, tolerance: float = DXF_ARC_TOLERANCE_
 
 def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_TOLERANCE_MM) -> bytes:
     """The DXF of ``part`` (see the module docstring), as bytes."""
-    previous = ezdxf.options.write_fixed_meta_data_for_testing
-    ezdxf.options.write_fixed_meta_data_for_testing = True
-    try:
+    with _writing(f"the DXF of {part.name}"):
         doc = _new_doc(version)
         msp = doc.modelspace()
         section = part.section if part.wire_offset is None else wire_path(part.section, part.wire_offset)
@@ -340,10 +353,6 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_
                 (minx, miny - (k + 2) * 1.6 * height)
             )
         return _write(doc)
-    except (ezdxf.DXFError, OSError) as exc:
-        raise ExportError(f"cannot write the DXF of {part.name}: {exc}") from exc
-    finally:
-        ezdxf.options.write_fixed_meta_data_for_testing = previous
 
 
 def _bulge_points(verts, flatten: float) -> np.ndarray:
@@ -395,9 +404,7 @@ def assembly_bytes(
     a centre cross at each part's axis (CENTRES) and an aligned dimension from the first
     part's axis to each other's (DIMENSIONS); the notes (ANNOTATION). Nothing is on CUT: the
     drawing is for assembly, not for the wire."""
-    previous = ezdxf.options.write_fixed_meta_data_for_testing
-    ezdxf.options.write_fixed_meta_data_for_testing = True
-    try:
+    with _writing(f"the assembly drawing {name}"):
         doc = _new_doc("R2000", setup=True)
         for layer, colour in (("PARTS", 7), ("CENTRES", 1), ("DIMENSIONS", 5)):
             doc.layers.add(layer, color=colour)
@@ -432,10 +439,6 @@ def assembly_bytes(
                 (-span, -span - (k + 2) * 1.6 * height)
             )
         return _write(doc)
-    except (ezdxf.DXFError, OSError) as exc:
-        raise ExportError(f"cannot write the assembly drawing {name}: {exc}") from exc
-    finally:
-        ezdxf.options.write_fixed_meta_data_for_testing = previous
 
 
 def read_section(data: bytes, flatten: float = 5e-5) -> shapely.Polygon:
