@@ -46,6 +46,7 @@ __all__ = [
     "atomic_write",
     "Transaction",
     "recover",
+    "interrupted_swap",
     "leftovers",
     "json_bytes",
     "csv_bytes",
@@ -91,6 +92,14 @@ def _fsync_dir(folder: Path) -> None:
         os.close(fd)
 
 
+def interrupted_swap(target: str | os.PathLike[str]) -> Path | None:
+    """The whole previous export when a build stopped between its two renames (the target is
+    gone, ``.<name>.previous`` is there), else None; :func:`recover` puts it back."""
+    target = Path(target)
+    previous = _beside(target, "previous")
+    return previous if previous.is_dir() and not target.exists() else None
+
+
 def recover(target: str | os.PathLike[str]) -> list[str]:
     """Put a family folder back in a whole state after an interrupted build; returns what it did.
 
@@ -102,7 +111,7 @@ def recover(target: str | os.PathLike[str]) -> list[str]:
     done = []
     previous, staging = _beside(target, "previous"), _beside(target, "staging")
     try:
-        if previous.is_dir() and not target.exists():
+        if interrupted_swap(target) is not None:
             os.rename(previous, target)
             done.append(f"restored the previous export of {target.name} (a build stopped while swapping it)")
         if previous.is_dir():

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from transplanter.errors import ExportError, PartScriptError, SpecError, TransplanterError
-from transplanter.export import Transaction, json_bytes, leftovers
+from transplanter.export import Transaction, interrupted_swap, json_bytes, leftovers
 from transplanter.families.cams import CamStudy
 from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
@@ -177,10 +177,6 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
     return manifest
 
 
-def _beside_previous(root: Path) -> Path:
-    return root.parent / f".{root.name}.previous"
-
-
 def _check_manifest(manifest) -> None:
     """ValueError naming what is wrong if ``manifest`` is not a family manifest."""
     if not isinstance(manifest, dict) or not isinstance(manifest.get("parts"), dict):
@@ -215,10 +211,11 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
     """
     root = Path(folder)
     if not (root / "manifest.json").is_file():
-        if _beside_previous(root).is_dir():
+        previous = interrupted_swap(root)
+        if previous is not None:
             raise ExportError(
                 f"{root}: a build was interrupted while swapping the export; the previous export is whole in "
-                f"{_beside_previous(root).name} — run the build again (it restores or replaces it)"
+                f"{previous.name} — run the build again (it restores or replaces it)"
             )
         raise SpecError(f"{root} is not a built family folder (no manifest.json)")
     out: dict = {"family": root.name, "script": "", "script_changed": False, "files": {}, "parts": {}, "ok": False}
