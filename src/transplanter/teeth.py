@@ -54,6 +54,7 @@ __all__ = [
     "ToothedGear",
     "generate",
     "generate_pair",
+    "per_gear",
     "boolean_reference",
     "flank_deviation",
     "secondary_cut",
@@ -493,8 +494,8 @@ def _drop_specks(body, module: float):
     return keep[0] if len(keep) == 1 else shapely.MultiPolygon(keep)
 
 
-def _per_gear(name: str, value) -> tuple[float, float]:
-    """A float for both gears, or a (driver, driven) pair."""
+def per_gear(name: str, value) -> tuple[float, float]:
+    """``value`` (one number for both gears, or a (driver, driven) pair) as a checked pair."""
     pair = value if isinstance(value, tuple | list) else (value, value)
     if len(pair) != 2:
         raise SpecError.out_of_range(name, value, "a number or a (driver, driven) pair of numbers")
@@ -563,8 +564,8 @@ def generate_pair(
         Go to :func:`generate` (``allow_undercut``, ``min_land``, ``rim``, ...).
     """
     ring = getattr(pair, "ring", None)
-    add = list(_per_gear("addendum", addendum))
-    sh = _per_gear("shift", shift)
+    add = list(per_gear("addendum", addendum))
+    sh = per_gear("shift", shift)
     j = resolve_backlash(backlash, cutter.thickening, cutter.module, pair.centre_distance, cutter.pressure_angle)
     cutter = replace(cutter, thickening=j / 2)
     if ring is not None:

@@ -20,7 +20,7 @@ from transplanter.families.making import Making, manufacture, read_shop_file
 from transplanter.interference import pair_limits
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
-from transplanter.teeth import CHORD_TOLERANCE, ToothedGear, generate_pair
+from transplanter.teeth import CHORD_TOLERANCE, ToothedGear, generate_pair, per_gear
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
 __all__ = ["MESH_STEPS", "ToothedPairStudy"]
@@ -154,7 +154,7 @@ class ToothedPairStudy:
         """Mesh the pair as found in ``files`` (this study's file names → bytes) for each source
         present; returns ``{source: validate.MeshReport}``, or the reason where a file cannot be read."""
         pair, sizing = self._sized()
-        internal = (pair.ring == "driver", pair.ring == "driven")
+        internal = self._internal
         readers = {
             "outline": (".outline.csv", lambda data, i: _outline_polygon(data, internal[i])),
             "dxf": (".dxf", lambda data, i: dxf.read_section(data)),
@@ -314,7 +314,7 @@ class ToothedPairStudy:
                 self.train.pair.centre_distance,
                 f"a train on this pair (centre distance {pair.centre_distance})",
             )
-        requested = [self.addendum] * 2 if not isinstance(self.addendum, tuple | list) else list(self.addendum)
+        requested = per_gear("addendum", self.addendum)
         gears = generate_pair(
             pair,
             dataclasses.replace(self.cutter, thickening=0.0),
