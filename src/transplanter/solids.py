@@ -144,11 +144,11 @@ class Features:
 MIN_WALL = 0.5
 
 
-def _check_features(blank, cuts, features: Features) -> None:
-    """GeometryError naming the feature that breaks out of the part or leaves a wall < MIN_WALL."""
+def _check_features(blank, cuts, features: Features, holes: list[shapely.Polygon]) -> None:
+    """GeometryError naming the feature that breaks out of the part or leaves a wall < MIN_WALL;
+    ``holes`` are ``features.cuts()``."""
     material = shapely.difference(blank, cuts)
     edge = material.boundary
-    holes = features.cuts()
     named = []
     if features.bore is not None:
         k = 2 if features.keyway else 1
@@ -182,8 +182,9 @@ def part_section(blank, cuts, features: Features) -> shapely.Polygon:
 
     Every feature hole must lie inside the part with a wall of at least MIN_WALL (a keyway
     breaking through a thin hub, or a bore wider than the part, is an error naming it)."""
-    _check_features(blank, cuts, features)
-    section = shapely.difference(blank, shapely.union_all([cuts, *features.cuts()]))
+    holes = features.cuts()
+    _check_features(blank, cuts, features, holes)
+    section = shapely.difference(blank, shapely.union_all([cuts, *holes]))
     if not isinstance(section, shapely.Polygon) or section.is_empty:
         raise GeometryError(
             "the bore, keyway or holes cut the part apart or leave nothing: make them smaller or move them"
