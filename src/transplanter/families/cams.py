@@ -13,7 +13,7 @@ from transplanter import dxf, plots, stl, validate
 from transplanter.cams import disc_cam
 from transplanter.errors import ExportError, GeometryError
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
-from transplanter.families.making import Making, manufacture, read_shop_file
+from transplanter.families.making import Making, manufacture, read_shop_file, split_unreadable
 from transplanter.pitch import Periodic
 
 __all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
@@ -66,13 +66,9 @@ class CamStudy:
         return out
 
     def following_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
-        results: dict = {"tolerance_mm": FOLLOWER_TOL}
-        problems = []
-        for source, rep in sorted(reports.items()):
-            if isinstance(rep, str):  # a file that cannot be read
-                results[source] = {"error": rep}
-                problems.append(f"{source}: {rep}")
-                continue
+        readable, unreadable, problems = split_unreadable(reports)
+        results: dict = {"tolerance_mm": FOLLOWER_TOL, **unreadable}
+        for source, rep in sorted(readable.items()):
             results[source] = rep.summary()
             if rep.max_error > FOLLOWER_TOL:
                 k = int(np.argmax(np.abs(rep.error)))
@@ -80,7 +76,6 @@ class CamStudy:
                     f"{source}: the follower on the made cam misses the law by {rep.error[k] * 1000:.2f} µm at cam "
                     f"angle {math.degrees(rep.theta[k]):.1f} deg (limit {FOLLOWER_TOL * 1000:g} µm)"
                 )
-        readable = {k: v for k, v in reports.items() if not isinstance(v, str)}
         files = plots.figure_files(plots.follower_figure(readable, self.name), f"{self.name}.follower")
         return results, files, problems
 

@@ -16,7 +16,7 @@ from transplanter.backlash import backlash_band, resolve_backlash, tolerance_bud
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
-from transplanter.families.making import Making, manufacture, read_shop_file
+from transplanter.families.making import Making, manufacture, read_shop_file, split_unreadable
 from transplanter.interference import pair_limits
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
@@ -281,13 +281,10 @@ class ToothedPairStudy:
             "tolerance_mm": self.tolerance,
             "steps": self.mesh_steps,
         }
-        problems = []
+        readable, unreadable, problems = split_unreadable(reports)
+        results.update(unreadable)
         trains = {}
-        for source, rep in sorted(reports.items()):
-            if isinstance(rep, str):  # a file that cannot be read
-                results[source] = {"error": rep}
-                problems.append(f"{source}: {rep}")
-                continue
+        for source, rep in sorted(readable.items()):
             res = rep.summary()
             found = self._problems(rep)
             res["problems"] = found
@@ -301,7 +298,6 @@ class ToothedPairStudy:
         files = {}
         shown = trains.get("stl", trains.get("outline"))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
-        readable = {k: v for k, v in reports.items() if not isinstance(v, str)}
         fig = plots.meshing_figure(readable, self.name, shown, note, band=band)
         files.update(plots.figure_files(fig, f"{self.name}.meshing"))
         return results, files, problems

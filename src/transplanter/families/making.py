@@ -16,7 +16,7 @@ from transplanter.tolerances import DXF_READBACK_MM
 #: round-off of the arc reconstruction is ~1e-12 mm
 ONE_SIDED_MM = 1e-9
 
-__all__ = ["Making", "manufacture", "material_added", "read_shop_file", "ONE_SIDED_MM"]
+__all__ = ["Making", "manufacture", "material_added", "read_shop_file", "split_unreadable", "ONE_SIDED_MM"]
 
 
 @dataclass(frozen=True)
@@ -59,6 +59,15 @@ def read_shop_file(name: str, data: bytes, reader):
         return reader(data)
     except Exception as exc:  # any reader's error on damaged bytes
         raise ExportError(f"cannot read {name}: {type(exc).__name__}: {exc}") from exc
+
+
+def split_unreadable(reports: dict) -> tuple[dict, dict, list[str]]:
+    """``{source: report, or the reason its file cannot be read}`` split into the readable
+    reports, the results entries ``{source: {"error": reason}}`` and the problems ``source: reason``
+    (for a check that must report a damaged file and go on)."""
+    bad = {k: v for k, v in sorted(reports.items()) if isinstance(v, str)}
+    readable = {k: v for k, v in reports.items() if k not in bad}
+    return readable, {k: {"error": v} for k, v in bad.items()}, [f"{k}: {v}" for k, v in bad.items()]
 
 
 def material_added(section: shapely.Polygon, contours: list[np.ndarray]) -> float:
