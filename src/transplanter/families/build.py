@@ -121,11 +121,13 @@ def _sha256(data: bytes) -> str:
 
 
 def _previous_manifest(root: Path) -> dict:
+    """The current export's manifest, or {} if there is none or it is damaged (``_check_manifest``)."""
     try:
         data = json.loads((root / "manifest.json").read_text())
-        return data if isinstance(data, dict) and isinstance(data.get("parts"), dict) else {}
+        _check_manifest(data)
     except (OSError, ValueError):
         return {}
+    return data
 
 
 def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], None] | None = None) -> dict:
@@ -165,7 +167,7 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
             failed: dict = {"error": error}
             before = old.get("parts", {}).get(part.name, {})
             kept = before.get("files", before.get("previous_files", {}))
-            kept = {f: h for f, h in sorted(kept.items()) if tx.keep(f)} if isinstance(kept, dict) else {}
+            kept = {f: h for f, h in sorted(kept.items()) if tx.keep(f)}
             if kept:
                 failed["previous_files"] = kept
             manifest["parts"][part.name] = failed
