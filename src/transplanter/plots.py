@@ -19,7 +19,6 @@ import numpy as np  # noqa: E402
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics  # noqa: E402
 
 __all__ = [
-    "figure_bytes",
     "figure_files",
     "coupler_curve_figure",
     "kinematics_figure",
@@ -46,14 +45,6 @@ def _render(fig: plt.Figure, fmt: str) -> bytes:
     with matplotlib.rc_context({"svg.hashsalt": "transplanter", "svg.fonttype": "none"}):
         fig.savefig(buf, format=fmt, dpi=110, metadata=_METADATA[fmt])
     return buf.getvalue()
-
-
-def figure_bytes(fig: plt.Figure, fmt: str) -> bytes:
-    """Render and close ``fig``; ``fmt`` is "png" or "svg"."""
-    try:
-        return _render(fig, fmt)
-    finally:
-        plt.close(fig)
 
 
 def figure_files(fig: plt.Figure, stem: str) -> dict[str, bytes]:
