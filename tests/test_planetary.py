@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from scipy import integrate
 
 from transplanter.agronomy import segment_distance, transplanting_metrics
-from transplanter.errors import SpecError
+from transplanter.errors import GeometryError, SpecError
 from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 
@@ -175,3 +175,55 @@ def test_arms_are_copies_only_when_the_lobe_numbers_allow(n1, n2, planets, ok):
     else:
         with pytest.raises(SpecError, match=r"would not be copies of each other: .* must be a whole number"):
             DifferentialTrain(pair, arm, carrier_start=0.7, planets=planets)
+
+
+def test_train_from_a_ratio_law_closes_and_follows_it():
+    """i(φ) = n(1 + A cos(nφ - p)): ring radius a i/(i - 1), planet a/(i - 1), both closed."""
+    n, a, amp, ph = 4, 60.0, 0.3, 0.7
+    tr = DifferentialTrain.from_ratio(n, ((amp * math.cos(ph), amp * math.sin(ph)),), a, ArmGeometry(150, 80, -0.7), 0.7)
+    phi = np.linspace(0, 2 * math.pi, 97)
+    i = n * (1 + amp * np.cos(n * phi - ph))
+    assert np.allclose(tr.pair.driver.r(phi), a * i / (i - 1), rtol=1e-12)
+    assert np.allclose(tr.pair.ratio(phi), i, rtol=1e-9)
+    assert tr.pair.closure_error < 1e-9 and tr.closure_error() < 1e-6 and tr.phase_error() < 1e-9
+    with pytest.raises(GeometryError, match="ratio"):  # i must stay above 1
+        DifferentialTrain.from_ratio(4, ((0.8, 0.0),), a, ArmGeometry(150, 80, -0.7), 0.7)
+
+
+def test_objectives_of_the_published_reading(seed004):
+    """Seed 004's objectives i-xii measured on the published reading, with the readings of the
+    objectives module: the angles, the box and the hole pass; the gearbox misses x at the
+    paper's 2.78 mm module (the ring alone reaches 102.5 mm)."""
+    from transplanter.objectives import Site, gearbox_radius, seed004_objectives
+
+    site = Site((165.0, 70.0), math.radians(52.0), 120.0, 30.0)
+    found = {(o.number, o.name): o for o in seed004_objectives(seed004["train"](), site, 2.78)}
+    assert len(found) == 13 and [k[0] for k in found][:3] == ["i", "ii", "iii"]
+    by_name = {k[1]: o for k, o in found.items()}
+    assert by_name["needle-needle clearance"].value == pytest.approx(21.6, abs=0.1)
+    assert by_name["picking angle"].ok and by_name["pushing angle"].ok and by_name["angle difference"].ok
+    assert by_name["picking depth into the box"].value == pytest.approx(16.6, abs=0.1)
+    assert by_name["hole width"].ok and by_name["module"].ok
+    gb = by_name["gearbox clearance above the ground"]
+    assert not gb.ok and gb.shortfall == pytest.approx(20 - gb.value)
+    assert gearbox_radius(100.0, 2.0) == pytest.approx(100 + 4.25 * 2 + 5)
+    with pytest.raises(SpecError, match="plant_spacing"):
+        Site((165.0, 70.0), 0.9, -1.0, 30.0)
+
+
+def test_screen_module_of_a_circular_pair_is_the_closed_form_limit():
+    """A circular ring/planet (a = 57.7, i = 4): the coarsest whole tooth count whose trimmed
+    ring clears the fillet and keeps a contact ratio >= 1.1 — 56/14 teeth with a 12-tooth cutter
+    (55/14 would need 13.75 planet teeth: the count steps by the 4 lobes)."""
+    from transplanter.cutter import ShaperCutter
+    from transplanter.interference import SCREEN_CUTTERS, circular_internal, fouling_screen, screen_module
+
+    tr = DifferentialTrain.from_ratio(4, (), 57.7, ArmGeometry(150, 80, -0.7), 0.7)
+    s = screen_module(tr.pair)
+    assert s.teeth == (56, 14) and s.cutter_teeth == 12 and s.pinion_addendum == 1.0
+    lim = circular_internal(56, 14, s.module, cutter_teeth=12, ring_addendum=s.ring_addendum)
+    assert not lim.problems(trochoid=False) and lim.min_contact_ratio >= 1.1
+    sized, sizing = tr.pair.sized(teeth=52)  # one step coarser: every cutter and addendum fails
+    for z0 in SCREEN_CUTTERS:
+        for pin in (1.0, 0.8):
+            assert fouling_screen(sized, ShaperCutter(z0, sizing.module), pinion_addendum=pin).problems(trochoid=False)

@@ -51,14 +51,26 @@ True
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.ndimage import maximum_filter1d
 
+from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError
 
-__all__ = ["InternalLimits", "internal_limits", "circular_internal", "pair_limits", "MIN_CONTACT_RATIO"]
+__all__ = [
+    "InternalLimits",
+    "internal_limits",
+    "circular_internal",
+    "pair_limits",
+    "screen_module",
+    "fouling_screen",
+    "ScreenResult",
+    "MIN_CONTACT_RATIO",
+]
 
 #: a contact ratio below this leaves moments with a single tooth pair barely in contact; 1.1 is
 #: the usual design floor for spur gears (below 1 the teeth let go)
@@ -118,10 +130,18 @@ class InternalLimits:
         k = int(np.nanargmin(values))
         return float(values[k]), math.degrees(float(self.driver_angle[k]))
 
-    def problems(self, names: tuple[str, str] = ("ring", "pinion")) -> list[str]:
+    def problems(
+        self,
+        names: tuple[str, str] = ("ring", "pinion"),
+        min_contact_ratio: float = MIN_CONTACT_RATIO,
+        trochoid: bool = True,
+    ) -> list[str]:
         """What interferes, where, and the remedy, in words (empty when clear).
 
-        Radial-assembly trimming is not a problem here (see :attr:`radial_assembly`).
+        Radial-assembly trimming is not a problem here (see :attr:`radial_assembly`); a contact
+        ratio below ``min_contact_ratio`` is (1: only where the teeth let go). ``trochoid`` False
+        leaves out the trochoid limit (exact for circular gears; along non-circular curves the
+        screen leaves it to the full check, see :func:`fouling_screen`).
         """
         ring, pinion = names
         m = self.module
@@ -146,16 +166,16 @@ class InternalLimits:
                 f"{pinion} addendum {self.pinion_addendum:g} m must be <= {self.max_pinion_addendum:.3f} m"
             )
         v, at = self._worst(self.trochoid)
-        if v < 0:
+        if v < 0 and trochoid:
             out.append(
                 f"trochoid interference: the {pinion}'s tip corners cut the {ring}'s tips when leaving mesh "
                 f"(margin {v:.3g} rad at driver angle {at:.1f} deg); the tooth-count difference is too small for "
                 "these addenda — shorten the ring's tips further or increase the difference"
             )
         v, at = self._worst(self.contact_ratio)
-        if v < MIN_CONTACT_RATIO:
+        if v < min_contact_ratio:
             out.append(
-                f"contact ratio {v:.3f} at driver angle {at:.1f} deg is below {MIN_CONTACT_RATIO} (limit): the teeth "
+                f"contact ratio {v:.3f} at driver angle {at:.1f} deg is below {min_contact_ratio:g} (limit): the teeth "
                 f"are too short for this mesh ({ring} addendum {self.ring_addendum:g} m, {pinion} "
                 f"{self.pinion_addendum:g} m, m = {m:g} mm)"
             )
@@ -309,3 +329,158 @@ def pair_limits(
         pinion_shift=pinion_shift,
         driver_angle=phi1,
     )
+
+
+#: Half-width of the window (pitches) over which the screen takes each pitch curve's sharpest
+#: convex curvature: the teeth in mesh span about 1.5 pitches either side of the contact, and a
+#: tooth's tip reaches the mate's flank up to 2-3 pitches away where the curvature changes fast
+#: (what made the published seed-004 pair foul 12.8 mm = 2.5 pitches from the contact).
+SCREEN_WINDOW_PITCHES = 3.0
+#: Shaper cutters the screen tries, teeth: fewer teeth free the ring's tips (see above); 12 is
+#: about the fewest a disc cutter is made with at these modules.
+SCREEN_CUTTERS = (12, 14, 16, 18, 20, 24)
+
+
+@dataclass(frozen=True)
+class ScreenResult:
+    """The coarsest tooth count at which an internal pair passes :func:`screen_module`."""
+
+    module: float
+    teeth: tuple[int, int]
+    cutter_teeth: int
+    ring_addendum: float
+    pinion_addendum: float
+    contact_ratio: float
+    #: smallest convex radii of curvature (ring, pinion) of the pitch curves, mm
+    min_radius_of_curvature: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class _Rolled:
+    """Curvatures of ring and pinion at their contact on a uniform grid of rolled arc length
+    over one driver lobe (both curves roll the same length): driver angles, grid step (mm)."""
+
+    ring: np.ndarray
+    pinion: np.ndarray
+    driver_angle: np.ndarray
+    step: float
+
+
+def _window_curvature(pair, n: int = 2048) -> _Rolled:
+    length = pair.driver.perimeter / pair.driver.lobes
+    phi1 = pair.driver.angle_at_arc_length(length * np.arange(n) / n)
+    k1 = pair.driver.curvature(phi1)
+    k2 = pair.driven.curvature(pair.driven_contact_angle(phi1))
+    return _Rolled(*((k1, k2) if pair.ring == "driver" else (k2, k1)), phi1, length / n)
+
+
+def fouling_screen(
+    pair,
+    cutter,
+    *,
+    ring_addendum: float | None = None,
+    pinion_addendum: float = 1.0,
+    window: float = SCREEN_WINDOW_PITCHES,
+) -> InternalLimits:
+    """:func:`internal_limits` of a sized internal ``pair`` cut by ``cutter`` (a ``ShaperCutter``)
+    with each pitch curve's radius of curvature taken as the smallest within ``window`` pitches
+    of the contact (on a uniform grid of rolled arc length over one driver lobe): the screen
+    for fouling a few pitches away from the contact, where the curvature changes fast. Its
+    verdict is ``problems(trochoid=False)``: along non-circular curves KHK's trochoid formula
+    refused pairs that the full meshing check found clear (``tests/test_screen.py``), so tip
+    fouling is judged by the fillet and pinion-tip limits on the windowed radii, and the cut
+    teeth's own checks (secondary cutting, undercut) by ``teeth.generate``. ``ring_addendum`` None trims the
+    ring's tips to the fillet/cutter limit less 0.02 m (at most 1), as :func:`screen_module` and
+    ``teeth.generate_pair(trim_ring_tips=True)`` do. Its ``problems()`` are empty when the cut
+    teeth are expected to mesh; concave stretches (the pair locally external) carry NaN."""
+    if pair.ring is None:
+        raise GeometryError("fouling_screen is for internal pairs; this pair is external")
+    rolled = _window_curvature(pair)
+    if ring_addendum is None:
+        ring_addendum = _trimmed(_windowed_limits(rolled, cutter, 1.0, pinion_addendum, window))
+    return _windowed_limits(rolled, cutter, ring_addendum, pinion_addendum, window)
+
+
+def _trimmed(full: InternalLimits) -> float:
+    """The ring addendum (modules) trimmed to the fillet/cutter limit less 0.02 m, at most 1."""
+    return min(1.0, math.floor((full.max_ring_addendum - 0.02) * 100) / 100)
+
+
+def _windowed_limits(rolled: _Rolled, cutter, ring_addendum, pinion_addendum, window) -> InternalLimits:
+    m = cutter.module
+    size = 2 * math.ceil(window * math.pi * m / rolled.step) + 1
+    k_ring = maximum_filter1d(rolled.ring, size, mode="wrap")
+    k_pin = maximum_filter1d(rolled.pinion, size, mode="wrap")
+    with np.errstate(divide="ignore"):
+        rho_ring = np.where(k_ring > 0, 1.0 / k_ring, np.nan)
+        rho_pin = np.where(k_pin > 0, 1.0 / k_pin, np.nan)
+    return internal_limits(
+        rho_ring,
+        rho_pin,
+        m,
+        pressure_angle=cutter.pressure_angle,
+        ring_addendum=ring_addendum,
+        pinion_addendum=pinion_addendum,
+        cutter_radius=cutter.pitch_radius,
+        cutter_roll=cutter.involute_end_roll,
+        driver_angle=rolled.driver_angle,
+    )
+
+
+def screen_module(
+    pair,
+    *,
+    max_module: float = 8.0,
+    min_module: float = 0.5,
+    cutters: tuple[int, ...] = SCREEN_CUTTERS,
+    pressure_angle: float = math.radians(20.0),
+    window: float = SCREEN_WINDOW_PITCHES,
+    pinion_addenda: tuple[float, ...] = (1.0, 0.8),
+    min_ring_addendum: float = 0.3,
+) -> ScreenResult | None:
+    """The largest module (coarsest whole tooth count) at which an internal ``pair`` is expected
+    to mesh: the fast fouling screen of a design search (numpy only, a few ms).
+
+    From the coarsest tooth count down, for each cutter in ``cutters`` (tooth counts) and each
+    pinion addendum in ``pinion_addenda`` (full, then stub): the ring's tips are trimmed to the
+    fillet/cutter limit (at most a full addendum, at least ``min_ring_addendum`` — the least
+    ``teeth.generate_pair`` trims to), then the limits of :func:`internal_limits` must hold with each curve's
+    radius of curvature taken as the *smallest* within ``window`` pitches of the contact — so a
+    curvature that changes fast, which fouls a few pitches away from the contact, counts — and
+    the cutter must roll inside the ring's sharpest convex corner. The pinion's pitch curve must
+    be convex; where the ring's is concave the pair is locally external and these limits do not
+    apply. None if no module >= ``min_module`` passes. Its verdict is validated against the full
+    meshing check of the cut teeth in ``tests/test_screen.py``.
+    """
+    if pair.ring is None:
+        raise GeometryError("screen_module is for internal pairs; this pair is external")
+    rolled = _window_curvature(pair)
+    if rolled.pinion.min() <= 0 or rolled.ring.max() <= 0:
+        return None
+    n_ring, n_pin = pair.lobes if pair.ring == "driver" else pair.lobes[::-1]
+    lobe_length = pair.driver.perimeter / pair.driver.lobes  # one ring lobe rolls one pinion lobe
+    k_first = max(1, math.ceil(lobe_length / (math.pi * max_module)))
+    k_last = math.floor(lobe_length / (math.pi * min_module))
+    sharpest = 1.0 / rolled.ring.max()
+    for k in range(k_first, k_last + 1):
+        m = lobe_length / (k * math.pi)
+        for z0, pinion_addendum in itertools.product(cutters, pinion_addenda):
+            cutter = ShaperCutter(z0, m, pressure_angle=pressure_angle)
+            if cutter.pitch_radius >= sharpest:
+                continue
+            ring_add = _trimmed(_windowed_limits(rolled, cutter, 1.0, pinion_addendum, window))
+            if ring_add < min_ring_addendum:
+                continue
+            lim = _windowed_limits(rolled, cutter, ring_add, pinion_addendum, window)
+            if lim.problems(trochoid=False):
+                continue
+            return ScreenResult(
+                m,
+                (k * n_ring, k * n_pin),
+                z0,
+                ring_add,
+                pinion_addendum,
+                lim.min_contact_ratio,
+                (float(sharpest), float(1 / rolled.pinion.max())),
+            )
+    return None

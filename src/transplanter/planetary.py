@@ -51,6 +51,7 @@ from typing import Protocol
 import numpy as np
 
 from transplanter.errors import MAX_MAGNITUDE, SpecError, check_int, check_number, finite_positive
+from transplanter.pitch import FourierSeries, GearPair
 
 __all__ = ["Transmission", "ArmGeometry", "ArmState", "DifferentialTrain"]
 
@@ -211,6 +212,30 @@ class DifferentialTrain:
     def cycle(self, n: int = 3600, arm_index: int = 0) -> ArmState:
         """One carrier turn sampled uniformly (n points, end point excluded)."""
         return self.state(2 * math.pi * np.arange(n) / n, arm_index)
+
+    @classmethod
+    def from_ratio(
+        cls,
+        lobes: int,
+        harmonics,
+        centre_distance: float,
+        arm: ArmGeometry,
+        carrier_start: float,
+        planets: int = 3,
+    ) -> DifferentialTrain:
+        """The train whose ring drives a one-lobed planet with the ratio law
+
+        ``i(φ) = ω_planet/ω_ring = n (1 + Σ_k c_k cos(k n φ) + s_k sin(k n φ))``, relative to the
+        carrier, ``n = lobes``, ``harmonics = ((c_1, s_1), (c_2, s_2), ...)``; φ is the ring's
+        angle relative to the carrier (rad). Its mean is n, so both pitch curves close exactly:
+        the ring's radius is ``a i/(i - 1)`` and the planet's ``a/(i - 1)``, with ``a`` the
+        carrier radius ``centre_distance`` (mm). ``i`` must stay above 1 (GeometryError if not).
+        """
+        n = check_int("lobes", lobes, 2, 64)
+        coeffs = np.asarray(harmonics, dtype=float).reshape(-1, 2) if len(harmonics) else np.zeros((0, 2))
+        ratio = FourierSeries(float(n), tuple(n * coeffs[:, 0]), tuple(n * coeffs[:, 1]), lobes=n)
+        pair = GearPair.from_ratio(ratio, centre_distance, "internal", ring="driver")
+        return cls(pair, arm, carrier_start, planets=planets)
 
     def phase_error(self, n: int = 720) -> float:
         """Largest distance (mm) between arm k and arm I shifted by 2πk/N of carrier rotation."""

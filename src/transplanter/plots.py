@@ -351,3 +351,31 @@ def follower_figure(reports: dict, title: str) -> plt.Figure:
     ax.legend(fontsize=7)
     fig.tight_layout()
     return fig
+
+
+def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
+    """Largest meshing module against the angle difference, the hole width and the gearbox
+    clearance over a family of designs (``rows``: dicts with ``module_mm``,
+    ``angle_difference_deg``, ``hole_width_mm``, ``gearbox_clearance_mm``, ``label``, ``chosen``)."""
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), sharey=True)
+    module = np.array([r["module_mm"] for r in rows])
+    chosen = [r["chosen"] for r in rows]
+    for ax, key, unit, band, what in (
+        (axes[0], "angle_difference_deg", "deg", (45.0, 65.0), "picking - pushing angle"),
+        (axes[1], "hole_width_mm", "mm", (0.0, 30.0), "hole width"),
+        (axes[2], "gearbox_clearance_mm", "mm", (20.0, None), "gearbox clearance above the ground"),
+    ):
+        x = np.array([r[key] for r in rows])
+        ax.plot(x, module, "o-", color="C0", ms=4, lw=1)
+        k = chosen.index(True)
+        ax.plot(x[k], module[k], "r*", ms=14, label="optimised design")
+        lo, hi = band
+        ax.axvspan(lo, hi if hi is not None else max(x.max(), lo) * 1.05, color="C2", alpha=0.12, label="objective")
+        ax.set_xlabel(f"{what} ({unit})")
+        ax.grid(alpha=0.3)
+    axes[0].axhline(2.5, color="C3", ls="--", lw=1, label="module objective xi (2.5 mm)")
+    axes[0].set_ylabel("largest meshing module (mm)")
+    axes[0].legend(fontsize=7, loc="best")
+    fig.suptitle(f"{title}: ratio-variation sweep — {binding}", fontsize=9)
+    fig.tight_layout()
+    return fig

@@ -95,15 +95,31 @@ def _table(rows: list[tuple[str, str, str]]) -> str:
     return f"<table>{body}</table>" if rows else ""
 
 
+def _matrix(value: dict) -> str:
+    """A ``{"columns": [...], "rows": [[...], ...]}`` result as a table with a header row."""
+    head = "".join(f"<th>{html.escape(str(c))}</th>" for c in value["columns"])
+    body = "".join(
+        "<tr>" + "".join(f"<td>{html.escape(_value(c))}</td>" for c in row) + "</tr>" for row in value["rows"]
+    )
+    return f"<table><tr>{head}</tr>{body}</table>"
+
+
 def _grouped(title: str, value: dict) -> str:
-    """One table of the scalars, then one per topic (a dict-valued key)."""
+    """One table of the scalars, then one per topic (a dict-valued key); a topic given as
+    columns and rows is drawn as that table."""
     if not value:
         return ""
     scalars = {k: v for k, v in value.items() if not isinstance(v, dict)}
     out = [f"<h3>{title}</h3>", _table(_rows("", scalars))]
     for key in sorted(k for k, v in value.items() if isinstance(v, dict)):
         out.append(f"<h4>{html.escape(_label(key)[0])}</h4>")
-        out.append(_table(_rows("", value[key])))
+        topic = value[key]
+        if "columns" in topic and "rows" in topic:
+            out.append(_matrix(topic))
+            rest = {k: v for k, v in topic.items() if k not in ("columns", "rows")}
+            out.append(_table(_rows("", rest)))
+        else:
+            out.append(_table(_rows("", topic)))
     return "".join(out)
 
 

@@ -44,7 +44,7 @@ from scipy.interpolate import PPoly
 from transplanter.backlash import resolve_backlash
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, TransplanterError, check_int, check_number
-from transplanter.interference import pair_limits
+from transplanter.interference import ScreenResult, pair_limits, screen_module
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
 
@@ -604,6 +604,40 @@ def generate_pair(
         pair.driven, cutter, teeth[1], internal=ring == "driven", phase=0.5, addendum=add[1], shift=sh[1], **kwargs
     )
     return driver, driven
+
+
+#: chord tolerance of the trial cut in :func:`coarsest_cut`, mm: a 10 µm undercut that a 5 µm
+#: chord misses shows at 1 µm, at a quarter of the time of the shipped 0.25 µm
+TRIAL_TOLERANCE = 1e-3
+
+
+def coarsest_cut(pair, *, max_module: float = 8.0, min_module: float = 0.5, **screen) -> ScreenResult | None:
+    """The coarsest tooth count of an internal ``pair`` that passes the fouling screen
+    (:func:`interference.screen_module`) *and* that the cutter can make: each screen result is
+    cut (:func:`generate_pair` at ``TRIAL_TOLERANCE``); one the cutter refuses (undercut,
+    secondary cutting, cutter fit) moves the search to the next finer tooth count. None if no
+    module >= ``min_module`` passes both."""
+    limit = max_module
+    while True:
+        found = screen_module(pair, max_module=limit, min_module=min_module, **screen)
+        if found is None:
+            return None
+        sized, _ = pair.sized(teeth=found.teeth[0])
+        try:
+            generate_pair(
+                sized,
+                ShaperCutter(found.cutter_teeth, found.module),
+                found.teeth,
+                addendum=(found.ring_addendum, found.pinion_addendum)
+                if pair.ring == "driver"
+                else (found.pinion_addendum, found.ring_addendum),
+                check_interference=False,
+                tolerance=TRIAL_TOLERANCE,
+            )
+        except GeometryError:
+            limit = found.module * (1 - 1e-9)
+            continue
+        return found
 
 
 def _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tolerance):

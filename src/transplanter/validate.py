@@ -327,6 +327,10 @@ class _MeshedPair:
         return self.pair.lobes
 
     @property
+    def driver(self):
+        return self.pair.driver
+
+    @property
     def ring(self) -> str | None:
         return self.pair.ring
 
@@ -346,6 +350,8 @@ class TrainReport:
     theta: np.ndarray = field(repr=False)
     deviation: np.ndarray = field(repr=False)
     attitude_error: np.ndarray = field(repr=False)
+    #: the train as rebuilt from the parts (its planets turned by the parts' meshing)
+    made: object = field(default=None, repr=False, compare=False)
 
     @property
     def max_deviation(self) -> float:
@@ -372,7 +378,7 @@ def train_check(train, report: MeshReport) -> TrainReport:
     design, made = train.state(theta), meshed.state(theta)
     dev = np.linalg.norm(made.tip - design.tip, axis=1)
     att = np.angle(np.exp(1j * (made.attitude - design.attitude)))
-    return TrainReport(theta, dev, att)
+    return TrainReport(theta, dev, att, meshed)
 
 
 @dataclass(frozen=True)

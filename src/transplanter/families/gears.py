@@ -18,6 +18,7 @@ from transplanter.errors import ExportError, GeometryError, SpecError, Transplan
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
 from transplanter.families.making import Making, manufacture, read_shop_file, split_unreadable
 from transplanter.interference import pair_limits
+from transplanter.objectives import Site, seed004_objectives
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
 from transplanter.teeth import CHORD_TOLERANCE, ToothedGear, generate_pair, per_gear
@@ -109,6 +110,10 @@ class ToothedPairStudy:
     at the start contact, its DXF notes name the mate, centre distance and tolerance, and
     ``<name>.assembly.dxf`` draws the pair in mesh with the centre distance dimensioned;
     ``<name>.motion.csv`` is the design motion (driven angle per driver angle).
+
+    **Trains.** With ``train`` the train is rebuilt from each source's meshing and its needle
+    tip compared with the design; with ``site`` too, seed 004's objectives are measured again on
+    the rebuilt train (:mod:`transplanter.objectives`) and must all still be met.
     """
 
     name: str
@@ -127,6 +132,9 @@ class ToothedPairStudy:
     trim_ring_tips: bool = True
     #: meshing-check steps per driver turn (raised to be coprime with the driver's tooth count)
     mesh_steps: int = MESH_STEPS
+    #: with ``train``: where it works; seed 004's objectives are then measured again on the
+    #: train rebuilt from each source's meshing, and a missed one fails the part
+    site: Site | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.pair, GearPair):
@@ -215,6 +223,22 @@ class ToothedPairStudy:
             "tolerance_budget_mm": rounded(tolerance_budget(self.tolerance), 6),
             "motion": f"{self.name}.motion.csv",
             "drawing": f"{self.name}.assembly.dxf",
+        } | self._planets()
+
+    def _planets(self) -> dict:
+        """With a train: how many planets to make, and where they sit on the carrier."""
+        if self.train is None:
+            return {}
+        n = self.train.planets
+        offsets = -2 * math.pi * np.arange(n) / n  # arm k's carrier line, from arm I's
+        contact = self.train.pair.driven_contact_angle(offsets)  # on each planet, at the start
+        return {
+            "planets": n,
+            "planet_carrier_angles_deg": [rounded(math.degrees(-o) % 360.0) for o in offsets],
+            # the planet's DXF +x from its carrier line (centre of the ring -> planet centre), turning
+            # counter-clockwise: its pitch point at polar angle `contact` then meets the ring
+            "planet_body_angle_to_carrier_line_deg": [rounded(math.degrees(-c) % 360.0) for c in contact],
+            "ring_contact_angles_deg": [rounded(math.degrees(o) % 360.0) for o in offsets],
         }
 
     def _notes(self, role: str, gear: ToothedGear, mate: ToothedGear, making: Making, pair, mark) -> tuple:
@@ -234,6 +258,8 @@ class ToothedPairStudy:
             f"timing mark: {'notch' if gear.internal else 'hole'} dia {mark[2]:.2f} mm at +x meets the mate's mark "
             f"at the start; {turn}",
         ]
+        if self.train is not None and role == "driven":
+            notes.append(f"make {self.train.planets}: one planet per arm, {360 / self.train.planets:g} deg apart")
         if j == 0:
             notes.append(
                 "ZERO BACKLASH by request: no play for the cutting tolerance - the pair binds unless the centre "
@@ -294,6 +320,9 @@ class ToothedPairStudy:
                 res["train"] = trains[source].summary()
                 if found:
                     res["train"]["note"] = "from the contact at the pitch point; the problems above are ignored"
+                if self.site is not None:
+                    missed = self._train_objectives(trains[source].made, res["train"])
+                    problems += [f"{source}: the train rebuilt from the parts misses objective {m}" for m in missed]
             results[source] = res
         files = {}
         shown = trains.get("stl", trains.get("outline"))
@@ -301,6 +330,12 @@ class ToothedPairStudy:
         fig = plots.meshing_figure(readable, self.name, shown, note, band=band)
         files.update(plots.figure_files(fig, f"{self.name}.meshing"))
         return results, files, problems
+
+    def _train_objectives(self, made, out: dict) -> list[str]:
+        """Seed 004's objectives measured on the train rebuilt from the parts' meshing (into ``out``)."""
+        found = seed004_objectives(made, self.site, self._sized()[1].module)
+        out["objectives"] = {f"{o.number} {o.name}": f"{o.verdict} (limit {o.limit})" for o in found}
+        return [f"{o.number} {o.name} = {o.value:.4g} {o.unit} (limit {o.limit})" for o in found if not o.ok]
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         pair, sizing = self._sized()

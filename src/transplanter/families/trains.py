@@ -1,17 +1,26 @@
-"""Planetary train studies: agronomic metrics beside published values, variants, plots."""
+"""Planetary train studies: agronomic metrics beside published values, variants, plots; the
+seed-004 objectives beside other designs; the carrier plate."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+import shapely
 
-from transplanter import plots
+from transplanter import dxf, plots
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
+from transplanter.cutter import ShaperCutter
+from transplanter.errors import GeometryError, SpecError, finite_positive
 from transplanter.export import csv_bytes, json_bytes, rounded, significant
+from transplanter.families.making import Making, manufacture
+from transplanter.interference import SCREEN_CUTTERS, fouling_screen, screen_module
+from transplanter.objectives import Objective, Site, gearbox_radius, seed004_objectives
 from transplanter.planetary import DifferentialTrain
+from transplanter.solids import circle_polygon
 
 __all__ = ["PlanetaryStudy"]
 
@@ -23,6 +32,23 @@ class PlanetaryStudy:
     ``reference`` holds published values ``(quantity, value, unit)`` to tabulate beside the
     computed ones (quantities as in :meth:`TransplantingMetrics.table`); ``variants`` holds
     ``(label, train)`` alternatives whose metrics show what the result depends on.
+
+    **Objectives.** With ``site`` and ``module`` (of the teeth cut for the train, mm) the study
+    measures seed 004's twelve objectives (:mod:`transplanter.objectives`) and tabulates them
+    with value, limit and pass beside ``compare`` — other ``(label, train, module)`` designs
+    (module 0: none meshes) — and the paper's own figures from ``reference``; with
+    ``must_meet`` a missed objective fails the part. The gearbox radius then follows from the
+    ring and the module (``objectives.gearbox_radius``) instead of ``gearbox_radius``.
+
+    **Trade-off.** ``tradeoff`` holds ``(label, train)`` neighbours of the design (e.g. its ratio
+    variation scaled); each one's largest meshing module (``interference.screen_module``) is
+    plotted against its angle difference, hole width and gearbox clearance, and the constraint
+    that stops the design's next coarser tooth count is named with its numbers.
+
+    **Carrier plate.** ``carrier = (outer radius mm, Making)`` makes the plate (DXF, STL); its
+    ``Making.features`` carry the central bore and the planet-shaft holes, which must lie on the
+    carrier radius (the pair's centre distance) at equal spacing, the first on +x (arm I) —
+    checked on the re-read DXF.
     """
 
     name: str
@@ -33,15 +59,155 @@ class PlanetaryStudy:
     gearbox_radius: float
     reference: tuple[tuple[str, float, str], ...] = ()
     variants: tuple[tuple[str, DifferentialTrain], ...] = ()
+    site: Site | None = None
+    module: float | None = None
+    compare: tuple[tuple[str, DifferentialTrain, float], ...] = ()
+    must_meet: bool = False
+    carrier: tuple[float, Making] | None = None
+    tradeoff: tuple[tuple[str, DifferentialTrain], ...] = ()
+
+    def __post_init__(self) -> None:
+        if (self.site is None) != (self.module is None):
+            raise SpecError(f"{self.name}: give both site and module (objectives), or neither")
+        if self.module is not None:
+            finite_positive("module", self.module)
+        if self.carrier is not None and not (len(self.carrier) == 2 and isinstance(self.carrier[1], Making)):
+            raise SpecError(f"{self.name}: carrier must be (outer radius in mm, Making)")
 
     def metrics(self, train: DifferentialTrain | None = None) -> TransplantingMetrics:
-        return transplanting_metrics(
-            train or self.train, self.seedling_box, self.plant_spacing, self.planting_depth, self.gearbox_radius
+        tr = train or self.train
+        radius = self.gearbox_radius
+        if self.module is not None:
+            radius = gearbox_radius(tr.pair.driver.max_radius().value, self.module)
+        return transplanting_metrics(tr, self.seedling_box, self.plant_spacing, self.planting_depth, radius)
+
+    def objectives(self) -> dict[str, tuple[Objective, ...]]:
+        """This design's objectives, then each compared design's, by label."""
+        out = {"this design": seed004_objectives(self.train, self.site, self.module)}
+        for label, train, module in self.compare:
+            out[label] = seed004_objectives(train, self.site, module or 1.0)
+            if not module:  # no module meshes: objective xi reads 0
+                out[label] = tuple(dataclasses.replace(o, value=0.0) if o.number == "xi" else o for o in out[label])
+        return out
+
+    def _objective_table(self) -> tuple[dict, list[str]]:
+        found = self.objectives()
+        ref = {q: v for q, v, _ in self.reference}
+        labels = list(found)
+        columns = ["objective", "limit"] + [f"{lb}" for lb in labels] + ["paper"]
+        rows = []
+        for k, o in enumerate(found["this design"]):
+            cells = [f"{o.number}. {o.name}", o.limit]
+            for lb in labels:
+                other = found[lb][k]
+                cells.append(other.verdict)
+            paper = ref.get(o.name, ref.get("module") if o.number == "xi" else None)
+            cells.append(f"{paper:g} {o.unit}" if paper is not None else "met (stated)")
+            rows.append(cells)
+        missed = [
+            f"{o.number} {o.name} = {o.value:.4g} {o.unit} (limit {o.limit})" for o in found["this design"] if not o.ok
+        ]
+        return {"columns": columns, "rows": rows, "all_met": not missed}, missed
+
+    def _tradeoff(self) -> tuple[list, str, dict[str, bytes]]:
+        rows = []
+        for label, train in (("this design", self.train), *self.tradeoff):
+            screen = screen_module(train.pair, min_module=1.0)
+            module = screen.module if screen is not None else 0.0
+            m = dataclasses.replace(self, train=train, module=max(module, 1.0)).metrics()
+            rows.append(
+                {
+                    "label": label,
+                    "chosen": label == "this design",
+                    "module_mm": rounded(module, 6),
+                    "angle_difference_deg": rounded(m.angle_difference, 6),
+                    "hole_width_mm": rounded(m.hole_width, 6),
+                    "gearbox_clearance_mm": rounded(m.gearbox_clearance, 6),
+                }
+            )
+        binding = self._binding()
+        fig = plots.tradeoff_figure(rows, self.name, binding)
+        files = plots.figure_files(fig, f"{self.name}.tradeoff")
+        keys = list(rows[0])
+        files[f"{self.name}.tradeoff.csv"] = csv_bytes(keys, [[r[k] for k in keys] for r in rows])
+        return rows, binding, files
+
+    def _binding(self) -> str:
+        """Why the design's teeth cannot be one step coarser, with the numbers."""
+        pair = self.train.pair
+        teeth = round(pair.driver.perimeter / (math.pi * self.module))
+        n1 = pair.driver.lobes
+        coarser = teeth - n1
+        sized, sizing = pair.sized(teeth=coarser)
+        found = []
+        for z0 in SCREEN_CUTTERS:
+            lim = fouling_screen(sized, ShaperCutter(z0, sizing.module))
+            why = lim.problems(("ring", "planet")) or ["clear"]
+            found.append(f"{z0}-tooth cutter: {why[0]}")
+        return (
+            f"binding at {coarser} ring teeth (m = {sizing.module:.3f} mm, one step coarser than {teeth}): " + found[0]
         )
+
+    def _carrier_plate(self) -> tuple[dict, dict[str, bytes]]:
+        radius, making = self.carrier
+        tr = self.train
+        a = tr.pair.centre_distance
+        holes = making.features.holes
+        want = [
+            (a * math.cos(2 * math.pi * k / tr.planets), a * math.sin(2 * math.pi * k / tr.planets))
+            for k in range(tr.planets)
+        ]
+        if len(holes) != tr.planets or max(math.dist(h[:2], w) for h, w in zip(holes, want, strict=True)) > 1e-9:
+            raise GeometryError(
+                f"{self.name}: the carrier plate needs {tr.planets} planet-shaft holes at radius {a:.6g} mm, "
+                f"120 deg apart from +x (Features.bolt_circle({tr.planets}, {a:.6g}, d)); got {holes}"
+            )
+        stem = f"{self.name}.carrier"
+        notes = (
+            f"carrier plate: {tr.planets} planet shafts on R{a:.4f} mm, {360 / tr.planets:g} deg apart",
+            "the first on +x carries arm I",
+            f"width {making.width:g} mm",
+        )
+        res, files = manufacture(
+            stem,
+            circle_polygon(0.0, 0.0, radius),
+            shapely.Polygon(),
+            making,
+            notes,
+            lambda pt: f"({pt[0]:.1f}, {pt[1]:.1f})",
+        )
+        # the shop's reading: hole centres from the re-read DXF
+        back = [
+            c
+            for c in dxf.read_contours(files[f"{stem}.dxf"])
+            if shapely.Polygon(c).area < math.pi * (radius * 0.9) ** 2
+        ]
+        centres = sorted(
+            (
+                shapely.Polygon(c).centroid.coords[0]
+                for c in back
+                if abs(shapely.Polygon(c).area - math.pi * (holes[0][2] / 2) ** 2) < 1e-3 * holes[0][2] ** 2
+            ),
+            key=lambda c: math.atan2(c[1], c[0]) % (2 * math.pi),
+        )
+        err = max((math.dist(c, w) for c, w in zip(centres, want, strict=True)), default=math.inf)
+        if len(centres) != tr.planets or err > 1e-3:
+            raise GeometryError(f"{self.name}: the carrier DXF's planet holes re-read {err:.3g} mm from the design")
+        res["planet_holes_readback_mm"] = significant(err)
+        return res, files
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
         m = self.metrics()
         tr = self.train
+        extra_files: dict[str, bytes] = {}
+        objectives = None
+        if self.site is not None:
+            objectives, missed = self._objective_table()
+            if missed and self.must_meet:
+                raise GeometryError(f"{self.name}: the design misses objectives: " + "; ".join(missed))
+        carrier = None
+        if self.carrier is not None:
+            carrier, extra_files = self._carrier_plate()
         ref = {q: v for q, v, _ in self.reference}
         rows = [[q, rounded(v, 6), ref.get(q, ""), u] for q, v, u in m.table()]
         params = {
@@ -56,8 +222,14 @@ class PlanetaryStudy:
             "seedling_box_mm": list(self.seedling_box),
             "plant_spacing_mm": self.plant_spacing,
             "planting_depth_mm": self.planting_depth,
-            "gearbox_radius_mm": self.gearbox_radius,
+            "gearbox_radius_mm": rounded(
+                self.gearbox_radius
+                if self.module is None
+                else gearbox_radius(tr.pair.driver.max_radius().value, self.module)
+            ),
         }
+        if self.module is not None:
+            params["module_mm"] = rounded(self.module, 12)
         results = {
             "metrics": {q: {"value": rounded(v, 6), "unit": u, "published": ref.get(q)} for q, v, u in m.table()},
             "phase_error_mm": significant(tr.phase_error()),
@@ -67,6 +239,18 @@ class PlanetaryStudy:
                 for label, variant in self.variants
             },
         }
+        if objectives is not None:
+            results["objectives"] = objectives
+        if carrier is not None:
+            results["carrier_plate"] = carrier
+        if self.tradeoff:
+            rows, binding, made = self._tradeoff()
+            results["tradeoff"] = {
+                "columns": list(rows[0]),
+                "rows": [list(r.values()) for r in rows],
+                "binding_constraint": binding,
+            }
+            extra_files.update(made)
         cyc = tr.cycle(1440)
         traj = [
             [f"{t:.6f}", f"{x:.6f}", f"{y:.6f}", f"{a:.6f}"]
@@ -81,4 +265,5 @@ class PlanetaryStudy:
         }
         fig = plots.planetary_trajectory_figure(tr, m, self.name, self.seedling_box)
         files.update(plots.figure_files(fig, f"{self.name}.trajectory"))
+        files.update(extra_files)
         return {"kind": "planetary", "parameters": params, "results": results}, files

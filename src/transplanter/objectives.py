@@ -1,0 +1,160 @@
+"""Seed 004's twelve design objectives (its §"Parameter optimisation", i-xii), measured on a train.
+
+The paper lists the objectives in words; where a word is not a number, the reading below makes
+it one (each is tested, and the README repeats them):
+
+i. **arms do not interfere**: each arm's needle (knee → tip) keeps ``ARM_CLEARANCE_MM`` from
+   every other arm's needle over the cycle (10 mm: two needles 10 mm wide on their centre
+   lines). The needles all work in the seedling box's plane; the arm bodies (planet centre →
+   knee) cannot share it — drawn straight in one plane, even the published design's bodies
+   cross the other arms' needles (``agronomy``'s straight-arm clearance is 0), so they sit in
+   planes staggered along the planet shafts, and only the needles can meet;
+ii. **arms clear the seedling box**: the box is the region beyond its end face, the line through
+   ``(Yx, Yy)`` perpendicular to its slope ``Ya`` (seedlings slide down the slope to that face,
+   where the needle takes one). The knee — and so the arm body, which lies behind it — stays
+   ``BOX_CLEARANCE_MM`` outside the face; only the needle enters;
+iii-v. **picking angle** (needle attitude at the picking point, ``agronomy``) 320-350°,
+   **pushing angle** (at the lowest point) 270-310°, their **difference** 45-65°;
+vi. **the seedling is taken**: the tip enters the box by a picking depth of ``PICK_DEPTH_MM``
+   (10-25 mm: a block of mat seedlings is 10-17 mm wide), and the picking point is within
+   ``PICK_SPREAD_MM`` of the box point;
+vii. **the seedling is not bridged** (left lying across the hole): the needle enters the soil
+   once per cycle and points down when it pushes (attitude within 180-360°);
+viii. **the arm does not push the seedling down**: after leaving the soil the tip does not pass
+   back over the plant (its absolute x at the push) while lower than ``SEEDLING_HEIGHT_MM``
+   above the soil; value = how far it comes back over it, limit 0;
+ix. **hole width** < 30 mm at the stated plant spacing (``agronomy.transplanting_metrics``);
+x. **gearbox** >= 20 mm above the ground; the gearbox is a circle of :func:`gearbox_radius`:
+   the ring's largest pitch radius, its dedendum (1.25 m), its rim (3 m, as ``teeth.generate``
+   makes it) and the housing wall ``HOUSING_WALL_MM``;
+xi. **module** > 2.5 mm (of the teeth that are cut);
+xii. **the needle does not press the seedlings when picking**: it enters the box point first —
+   the angle between the needle and the slope direction at entry is below 90°.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
+from transplanter.errors import check_number, finite_positive
+
+__all__ = ["Site", "Objective", "gearbox_radius", "seed004_objectives", "ARM_CLEARANCE_MM"]
+
+ARM_CLEARANCE_MM = 10.0
+BOX_CLEARANCE_MM = 5.0
+PICK_DEPTH_MM = (10.0, 25.0)
+PICK_SPREAD_MM = 15.0
+SEEDLING_HEIGHT_MM = 100.0
+HOUSING_WALL_MM = 5.0
+#: ring dedendum and rim below its pitch curve, modules (``ShaperCutter`` addendum 1.25 m and
+#: the 3 m rim ``teeth.generate`` leaves under the deepest root)
+RING_DEPTH_MODULES = 1.25 + 3.0
+
+
+@dataclass(frozen=True)
+class Site:
+    """Where the train works: seedling box end ``(Yx, Yy)`` mm and slope ``Ya`` rad, plant
+    spacing and planting depth mm."""
+
+    seedling_box: tuple[float, float]
+    box_slope: float
+    plant_spacing: float
+    planting_depth: float
+
+    def __post_init__(self) -> None:
+        for i, v in enumerate(self.seedling_box):
+            check_number(f"seedling_box[{i}]", v, -1e4, 1e4, unit="mm")
+        check_number("box_slope (Ya)", self.box_slope, -2 * math.pi, 2 * math.pi, unit="rad")
+        finite_positive("plant_spacing", self.plant_spacing)
+        finite_positive("planting_depth", self.planting_depth)
+
+
+@dataclass(frozen=True)
+class Objective:
+    """One objective: its number in seed 004, what it measures, the value and the limits."""
+
+    number: str
+    name: str
+    value: float
+    low: float
+    high: float
+    unit: str
+
+    @property
+    def ok(self) -> bool:
+        return bool(self.low <= self.value <= self.high)
+
+    @property
+    def limit(self) -> str:
+        if math.isinf(self.high):
+            return f">= {self.low:g} {self.unit}".strip()
+        if math.isinf(self.low):
+            return f"<= {self.high:g} {self.unit}".strip()
+        return f"{self.low:g}..{self.high:g} {self.unit}".strip()
+
+    @property
+    def verdict(self) -> str:
+        """``value unit pass`` or ``... FAIL``, as the report shows it."""
+        return " ".join(x for x in (f"{self.value:.4g}", self.unit, "pass" if self.ok else "FAIL") if x)
+
+    @property
+    def shortfall(self) -> float:
+        """How far outside the limits, in the value's unit (0 inside)."""
+        return max(0.0, self.low - self.value, self.value - self.high)
+
+
+def gearbox_radius(ring_max_radius: float, module: float) -> float:
+    """Radius of the gearbox around the carrier axis, mm (objective x, see the module docstring)."""
+    return ring_max_radius + RING_DEPTH_MODULES * module + HOUSING_WALL_MM
+
+
+def seed004_objectives(
+    train, site: Site, module: float, metrics: TransplantingMetrics | None = None, n: int = 1440
+) -> tuple[Objective, ...]:
+    """The twelve objectives of seed 004 for ``train`` cut at ``module`` (mm) at ``site``."""
+    gb = gearbox_radius(train.pair.driver.max_radius().value, module)
+    m = metrics or transplanting_metrics(train, site.seedling_box, site.plant_spacing, site.planting_depth, gb, n=n)
+    s = train.cycle(n)
+    box = np.asarray(site.seedling_box, dtype=float)
+    up = np.array([math.cos(site.box_slope), math.sin(site.box_slope)])  # into the box
+    depth = (s.tip - box) @ up
+    k = int(np.argmax(depth))
+    inside = depth > 0
+    entry = int(np.flatnonzero(inside & ~np.roll(inside, 1))[0]) if inside.any() and not inside.all() else k
+    needle = s.tip[entry] - s.knee[entry]
+    entry_angle = math.degrees(math.acos(float(np.clip(needle @ up / np.linalg.norm(needle), -1, 1))))
+    # soil: entries per cycle, and the return over the plant
+    below = s.tip[:, 1] < m.soil_level
+    entries = int(np.count_nonzero(below & ~np.roll(below, 1)))
+    t = s.theta / train.carrier_speed
+    ground_x = s.tip[:, 0] + m.travel_direction * m.forward_speed * t
+    low = int(np.argmin(s.tip[:, 1]))
+    order = np.roll(np.arange(n), -low)  # from the push onwards
+    plant_x = ground_x[low]
+    after = order[np.flatnonzero(~below[order])[0] :] if (~below).any() else order[:0]
+    rising = after[: int(np.argmax(s.tip[after, 1] > m.soil_level + SEEDLING_HEIGHT_MM))] if after.size else after
+    exit_side = np.sign(ground_x[after[0]] - plant_x) if after.size else 1.0
+    over = float(np.max(np.maximum(0.0, -exit_side * (ground_x[rising] - plant_x)), initial=0.0))
+    push_down = 1.0 if 180.0 <= m.pushing_angle <= 360.0 and entries == 1 else 0.0
+    inf = math.inf
+    return (
+        Objective("i", "needle-needle clearance", m.needle_clearance, ARM_CLEARANCE_MM, inf, "mm"),
+        Objective(
+            "ii", "knee outside the seedling box", float(-np.max((s.knee - box) @ up)), BOX_CLEARANCE_MM, inf, "mm"
+        ),
+        Objective("iii", "picking angle", m.picking_angle, 320.0, 350.0, "deg"),
+        Objective("iv", "pushing angle", m.pushing_angle, 270.0, 310.0, "deg"),
+        Objective("v", "angle difference", m.angle_difference, 45.0, 65.0, "deg"),
+        Objective("vi", "picking depth into the box", float(depth[k]), *PICK_DEPTH_MM, "mm"),
+        Objective("vi", "picking point to the box point", m.picking_box_distance, -inf, PICK_SPREAD_MM, "mm"),
+        Objective("vii", "one soil entry, needle down at the push (1 = yes)", push_down, 1.0, 1.0, ""),
+        Objective("viii", "tip back over the plant after leaving the soil", over, -inf, 0.0, "mm"),
+        Objective("ix", "hole width", m.hole_width, -inf, 30.0, "mm"),
+        Objective("x", "gearbox clearance above the ground", m.gearbox_clearance, 20.0, inf, "mm"),
+        Objective("xi", "module", module, 2.5, inf, "mm"),
+        Objective("xii", "needle to box slope at entry", entry_angle, -inf, 90.0, "deg"),
+    )
