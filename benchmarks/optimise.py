@@ -1,13 +1,14 @@
 """Evaluations per second of a design search: serial against ``--workers 2`` (dask LocalCluster).
 
-Runs a part script's ``problem()`` (default: seed 002's, ~70 ms per candidate) for a few
+Runs a part script's ``problem()`` (default: seed 004's differential train, 0.1-0.5 s per
+candidate; seed 002's takes ~70 ms) for a few
 generations of differential evolution, once evaluating serially and once on two local worker
 processes, with the same seed, and prints evaluations per second and the ratio. Both runs use
 deferred updating (one population update per generation), so they evaluate exactly the same
 candidates and reach the same best cost — equal accuracy by construction; the parallel run's
 time includes starting its cluster.
 
-    python benchmarks/optimise.py [parts/script.py] [--generations 10] [--popsize 4]
+    python benchmarks/optimise.py [parts/script.py] [--generations 4] [--popsize 4]
 """
 
 import argparse
@@ -19,8 +20,8 @@ from transplanter.optimise import optimise
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("script", nargs="?", default="parts/potseedling_seed002.py")
-    ap.add_argument("--generations", type=int, default=10)
+    ap.add_argument("script", nargs="?", default="parts/planetary_seed004.py")
+    ap.add_argument("--generations", type=int, default=4)
     ap.add_argument("--popsize", type=int, default=4)
     args = ap.parse_args()
     problem = runpy.run_path(args.script, run_name="transplanter_part_script")["problem"]()

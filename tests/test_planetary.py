@@ -211,19 +211,56 @@ def test_objectives_of_the_published_reading(seed004):
         Site((165.0, 70.0), 0.9, -1.0, 30.0)
 
 
-def test_screen_module_of_a_circular_pair_is_the_closed_form_limit():
-    """A circular ring/planet (a = 57.7, i = 4): the coarsest whole tooth count whose trimmed
-    ring clears the fillet and keeps a contact ratio >= 1.1 — 56/14 teeth with a 12-tooth cutter
-    (55/14 would need 13.75 planet teeth: the count steps by the 4 lobes)."""
+def test_screen_of_a_circular_pair_is_circular_theory_then_the_cut_decides():
+    """A circular ring/planet (a = 57.7, i = 4). Along a circle the windowed screen is the closed
+    form of circular theory exactly; it passes 36/9 teeth (ring tips trimmed, contact ratio
+    >= 1.1), the cut refuses a 9-tooth planet (undercut), and ``coarsest_cut`` settles on 52/13,
+    between the 48/12 and 56/14 that the full meshing check passes in ``screen_cases``."""
     from transplanter.cutter import ShaperCutter
-    from transplanter.interference import SCREEN_CUTTERS, circular_internal, fouling_screen, screen_module
+    from transplanter.interference import circular_internal, fouling_screen, screen_module
+    from transplanter.teeth import coarsest_cut, generate_pair
 
     tr = DifferentialTrain.from_ratio(4, (), 57.7, ArmGeometry(150, 80, -0.7), 0.7)
     s = screen_module(tr.pair)
-    assert s.teeth == (56, 14) and s.cutter_teeth == 12 and s.pinion_addendum == 1.0
-    lim = circular_internal(56, 14, s.module, cutter_teeth=12, ring_addendum=s.ring_addendum)
-    assert not lim.problems(trochoid=False) and lim.min_contact_ratio >= 1.1
-    sized, sizing = tr.pair.sized(teeth=52)  # one step coarser: every cutter and addendum fails
-    for z0 in SCREEN_CUTTERS:
-        for pin in (1.0, 0.8):
-            assert fouling_screen(sized, ShaperCutter(z0, sizing.module), pinion_addendum=pin).problems(trochoid=False)
+    assert s.teeth == (36, 9) and s.cutter_teeth == 12
+    sized, sizing = tr.pair.sized(teeth=36)
+    lim = fouling_screen(sized, ShaperCutter(12, sizing.module), ring_addendum=s.ring_addendum)
+    exact = circular_internal(36, 9, sizing.module, cutter_teeth=12, ring_addendum=s.ring_addendum)
+    assert np.nanmin(lim.fillet) == pytest.approx(float(exact.fillet[0]), abs=1e-9)
+    assert lim.min_contact_ratio == pytest.approx(exact.min_contact_ratio, abs=1e-9)
+    with pytest.raises(GeometryError, match="undercut"):
+        generate_pair(sized, ShaperCutter(12, sizing.module), (36, 9), addendum=(s.ring_addendum, 1.0))
+    assert coarsest_cut(tr.pair).teeth == (52, 13)
+
+
+def test_optimised_seed004_train_is_made_meshes_and_meets_every_objective(built, seed004):
+    """The optimised design (``OPTIMUM``): every objective i-xii met and reported beside the
+    published reading; ring and planet cut, re-read from DXF and STL, mesh over the whole
+    relative cycle with no overlap and backlash above the tolerance budget; the three-arm train
+    rebuilt from each made source stays within the bound its backlash predicts and still meets
+    the objectives; the carrier plate's planet holes re-read on the carrier radius at 120 deg."""
+    folder = built / "planetary_seed004"
+    manifest = json.loads((folder / "manifest.json").read_text())
+    train = manifest["parts"]["optimised_train"]
+    res = train["results"]
+    table = res["objectives"]
+    assert table["all_met"] and table["columns"][2:] == ["this design", "published reading", "paper"]
+    assert len(table["rows"]) == 13 and all(row[2].endswith("pass") for row in table["rows"])
+    assert any(row[3].endswith("FAIL") for row in table["rows"])  # the published reading misses some
+    module = train["parameters"]["module_mm"]
+    assert module >= 2.5
+    pair = manifest["parts"]["optimised_ring_planet"]["results"]
+    assert pair["assembly"]["kind"] == "internal" and pair["assembly"]["planets"] == 3
+    for source in ("outline", "dxf", "stl"):
+        mesh = pair["meshing"][source]
+        assert mesh["max_penetration_mm2"] == 0.0 and not mesh["problems"], source
+        assert mesh["backlash_mm"][0] > pair["assembly"]["tolerance_budget_mm"], source
+        assert mesh["train"]["max_tip_deviation_mm"] <= mesh["train"]["predicted_bound_mm"], source
+        assert all("pass" in v for v in mesh["train"]["objectives"].values()), source
+    assert res["carrier_plate"]["planet_holes_readback_mm"] < 1e-3
+    for name in ("optimised_ring_planet.driver", "optimised_ring_planet.driven", "optimised_train.carrier"):
+        assert (folder / f"{name}.dxf").stat().st_size > 0 and (folder / f"{name}.stl").stat().st_size > 0
+    assert "binding at" in res["tradeoff"]["binding_constraint"]
+    assert (folder / "optimised_train.tradeoff.png").stat().st_size > 10_000
+    page = (folder / "report.html").read_text()
+    assert "published reading" in page and "needle-needle clearance" in page

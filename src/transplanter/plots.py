@@ -376,6 +376,6 @@ def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
     axes[0].axhline(2.5, color="C3", ls="--", lw=1, label="module objective xi (2.5 mm)")
     axes[0].set_ylabel("largest meshing module (mm)")
     axes[0].legend(fontsize=7, loc="best")
-    fig.suptitle(f"{title}: ratio-variation sweep — {binding}", fontsize=9)
+    fig.suptitle(f"{title}: largest module that meshes and can be cut — {binding}", fontsize=9)
     fig.tight_layout()
     return fig

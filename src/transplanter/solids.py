@@ -97,18 +97,22 @@ class Features:
         Cut the DIN 6885-1 hub keyway for ``bore`` (towards +y).
     holes : tuple of (x, y, diameter)
         Extra round holes (lightening holes, bolt circle).
+    notches : tuple of (x, y, diameter)
+        Round notches centred on the part's edge (a ring's timing mark): cut like holes, but
+        meant to break out of the outline.
     """
 
     bore: float | None = None
     keyway: bool = True
     holes: tuple[tuple[float, float, float], ...] = ()
+    notches: tuple[tuple[float, float, float], ...] = ()
 
     def __post_init__(self) -> None:
         if self.bore is not None:
             finite_positive("bore", self.bore)
             if self.keyway:
                 key_for(self.bore)
-        for x, y, dia in self.holes:
+        for x, y, dia in self.holes + self.notches:
             check_number("hole centre x", x, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="mm")
             check_number("hole centre y", y, -MAX_MAGNITUDE, MAX_MAGNITUDE, unit="mm")
             finite_positive("hole diameter", dia)
@@ -135,7 +139,7 @@ class Features:
                 rk = 0.08 * k.width
                 box = shapely.box(-k.width / 2, 0.0, k.width / 2, r + k.hub_depth)
                 out.append(box.buffer(-rk, join_style="mitre").buffer(rk, quad_segs=32))
-        out.extend(circle_polygon(x, y, d / 2) for x, y, d in self.holes)
+        out.extend(circle_polygon(x, y, d / 2) for x, y, d in self.holes + self.notches)
         return out
 
 
@@ -157,9 +161,15 @@ def _check_features(blank, cuts, features: Features, holes: list[shapely.Polygon
         holes = holes[k:]
     named += [
         (f"the hole at ({x:g}, {y:g}) mm (dia {d:g} mm)", h, False)
-        for (x, y, d), h in zip(features.holes, holes, strict=True)
+        for (x, y, d), h in zip(features.holes, holes[: len(features.holes)], strict=True)
     ]
-    for k, (name, hole, is_bore) in enumerate(named):
+    notches = [
+        (f"the notch at ({x:g}, {y:g}) mm (dia {d:g} mm)", h, None)
+        for (x, y, d), h in zip(features.notches, holes[len(features.holes) :], strict=True)
+    ]
+    for k, (name, hole, is_bore) in enumerate(named + notches):
+        if is_bore is None:  # a notch breaks out by design; only its distance to the others counts
+            continue
         inside = material.contains(hole)
         wall = float(shapely.distance(hole, edge)) if inside else 0.0
         if wall < MIN_WALL:
@@ -171,7 +181,7 @@ def _check_features(blank, cuts, features: Features, holes: list[shapely.Polygon
             else:
                 what = "breaks out of the part" if not inside else f"leaves a wall of {wall:.3g} mm"
             raise GeometryError(f"{name} {what} (limit: a wall of {MIN_WALL:g} mm); make it smaller or move it")
-        for other_name, other, _ in named[k + 1 :]:
+        for other_name, other, _ in (named + notches)[k + 1 :]:
             gap = float(shapely.distance(hole, other))
             if gap < MIN_WALL:
                 raise GeometryError(f"{name} and {other_name} leave a wall of {gap:.3g} mm (limit {MIN_WALL:g} mm)")

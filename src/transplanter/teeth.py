@@ -35,6 +35,7 @@ below ``min_land``), teeth that fall apart.
 from __future__ import annotations
 
 import math
+import weakref
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -68,6 +69,8 @@ MIN_TRIMMED_ADDENDUM = 0.3
 #: a quarter of the 1 µm flank budget, the rest is margin for the DXF arc fit).
 CHORD_TOLERANCE = 0.25e-3
 
+_FRAMES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # ArcFrame.from_curve's, per curve
+
 
 @dataclass(frozen=True, eq=False)
 class ArcFrame:
@@ -87,6 +90,15 @@ class ArcFrame:
 
     @classmethod
     def from_curve(cls, curve: PitchCurve, step: float = 0.25) -> ArcFrame:
+        """The frame of ``curve``, made once per curve and step (curves are immutable): cutting
+        a pair tries its cutter on both curves, then cuts each, on the same frames."""
+        made = _FRAMES.setdefault(curve, {})
+        if step not in made:
+            made[step] = cls._build(curve, step)
+        return made[step]
+
+    @classmethod
+    def _build(cls, curve: PitchCurve, step: float) -> ArcFrame:
         length = curve.perimeter
         n = max(64, int(math.ceil(length / step)))
         s = np.linspace(0.0, length, n + 1)
@@ -295,6 +307,12 @@ def _check_cutter_fits(frame: ArcFrame, cutter: ShaperCutter, internal: bool, sh
         )
 
 
+#: a back-turn (> 90°) on segments shorter than this (mm) is an envelope artefact where two pieces
+#: meet (1.5 µm on a 20-tooth ellipse pair, 7.6 µm at a 17-tooth planet's root): a real tooth
+#: outline cannot turn back within 12.5 µm (its smallest fillet radius is tens of µm)
+SPIKE_LENGTH = 50 * CHORD_TOLERANCE
+
+
 def _despike(points: np.ndarray, length: float) -> np.ndarray:
     """Drop vertices where the path turns back (> 90°) on a segment shorter than ``length``.
 
@@ -320,7 +338,7 @@ def _space_polygons(y, s_centres, frame, side, module):
     polys = []
     for j in range(y.shape[0]):
         out = side * nrm[j] * ext
-        ring = np.concatenate([[y[j, 0] + out], _despike(y[j], 20 * CHORD_TOLERANCE), [y[j, -1] + out]])
+        ring = np.concatenate([[y[j, 0] + out], _despike(y[j], SPIKE_LENGTH), [y[j, -1] + out]])
         poly = shapely.Polygon(ring)
         if not poly.is_valid:
             poly = shapely.make_valid(poly, method="structure", keep_collapsed=False)
@@ -588,9 +606,11 @@ def generate_pair(
             elif check_interference:
                 raise GeometryError(
                     f"ring-tip trimming would leave an addendum of {trimmed:.2f} m (limit > {MIN_TRIMMED_ADDENDUM} m): "
-                    + "; ".join(lim.problems(names))
+                    + "; ".join(lim.problems(names, trochoid=False))
                 )
-        found = lim.problems(names)
+        # KHK's trochoid limit, exact for circular gears, refuses non-circular pairs that mesh
+        # (tests/test_screen.py): the cut teeth's meshing check judges tip fouling instead
+        found = lim.problems(names, trochoid=False)
         if found and check_interference:
             raise GeometryError(
                 "the internal pair interferes before cutting: "
@@ -606,15 +626,11 @@ def generate_pair(
     return driver, driven
 
 
-#: chord tolerance of the trial cut in :func:`coarsest_cut`, mm: a 10 µm undercut that a 5 µm
-#: chord misses shows at 1 µm, at a quarter of the time of the shipped 0.25 µm
-TRIAL_TOLERANCE = 1e-3
-
-
 def coarsest_cut(pair, *, max_module: float = 8.0, min_module: float = 0.5, **screen) -> ScreenResult | None:
     """The coarsest tooth count of an internal ``pair`` that passes the fouling screen
     (:func:`interference.screen_module`) *and* that the cutter can make: each screen result is
-    cut (:func:`generate_pair` at ``TRIAL_TOLERANCE``); one the cutter refuses (undercut,
+    cut as it will be shipped (:func:`generate_pair`, default backlash and chord tolerance —
+    a trial at a coarser chord missed a 3 µm undercut); one the cutter refuses (undercut,
     secondary cutting, cutter fit) moves the search to the next finer tooth count. None if no
     module >= ``min_module`` passes both."""
     limit = max_module
@@ -632,7 +648,6 @@ def coarsest_cut(pair, *, max_module: float = 8.0, min_module: float = 0.5, **sc
                 if pair.ring == "driver"
                 else (found.pinion_addendum, found.ring_addendum),
                 check_interference=False,
-                tolerance=TRIAL_TOLERANCE,
             )
         except GeometryError:
             limit = found.module * (1 - 1e-9)

@@ -318,6 +318,19 @@ class ToothedPairStudy:
             if self.train is not None:
                 trains[source] = validate.train_check(self.train, rep)
                 res["train"] = trains[source].summary()
+                # the planet may turn by (half the backlash + transmission error) / its pitch radius
+                # off the design: the needle tip by S times that at most
+                bound = (
+                    self.train.arm.tip
+                    * (float(rep.backlash.max()) / 2 + rep.max_transmission_error)
+                    / self.train.pair.driven.min_radius().value
+                )
+                res["train"]["predicted_bound_mm"] = rounded(bound, 6)
+                if not found and trains[source].max_deviation > bound:
+                    problems.append(
+                        f"{source}: the train rebuilt from the parts leaves the design by "
+                        f"{trains[source].max_deviation:.4g} mm, more than the {bound:.4g} mm its backlash allows"
+                    )
                 if found:
                     res["train"]["note"] = "from the contact at the pitch point; the problems above are ignored"
                 if self.site is not None:
@@ -406,7 +419,9 @@ class ToothedPairStudy:
                 marks[role] = mark
                 making = dataclasses.replace(
                     making,
-                    features=dataclasses.replace(making.features, holes=(*making.features.holes, mark)),
+                    features=dataclasses.replace(making.features, notches=(mark,))
+                    if gear.internal
+                    else dataclasses.replace(making.features, holes=(*making.features.holes, mark)),
                 )
                 res, made = manufacture(
                     f"{self.name}.{role}",

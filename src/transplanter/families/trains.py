@@ -17,10 +17,11 @@ from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, finite_positive
 from transplanter.export import csv_bytes, json_bytes, rounded, significant
 from transplanter.families.making import Making, manufacture
-from transplanter.interference import SCREEN_CUTTERS, fouling_screen, screen_module
+from transplanter.interference import SCREEN_CUTTERS, fouling_screen
 from transplanter.objectives import Objective, Site, gearbox_radius, seed004_objectives
 from transplanter.planetary import DifferentialTrain
 from transplanter.solids import circle_polygon
+from transplanter.teeth import coarsest_cut, generate_pair
 
 __all__ = ["PlanetaryStudy"]
 
@@ -112,8 +113,11 @@ class PlanetaryStudy:
     def _tradeoff(self) -> tuple[list, str, dict[str, bytes]]:
         rows = []
         for label, train in (("this design", self.train), *self.tradeoff):
-            screen = screen_module(train.pair, min_module=1.0)
-            module = screen.module if screen is not None else 0.0
+            if train is self.train:
+                module = self.module
+            else:
+                found = coarsest_cut(train.pair, min_module=2.0)
+                module = found.module if found is not None else 0.0
             m = dataclasses.replace(self, train=train, module=max(module, 1.0)).metrics()
             rows.append(
                 {
@@ -126,26 +130,38 @@ class PlanetaryStudy:
                 }
             )
         binding = self._binding()
-        fig = plots.tradeoff_figure(rows, self.name, binding)
+        fig = plots.tradeoff_figure(rows, self.name, binding.split(":")[0])
         files = plots.figure_files(fig, f"{self.name}.tradeoff")
         keys = list(rows[0])
         files[f"{self.name}.tradeoff.csv"] = csv_bytes(keys, [[r[k] for k in keys] for r in rows])
         return rows, binding, files
 
     def _binding(self) -> str:
-        """Why the design's teeth cannot be one step coarser, with the numbers."""
+        """Why the design's teeth cannot be one step coarser, with the numbers: the screen's
+        verdict, or the cutter's, for the first cutter and planet addendum it tries."""
         pair = self.train.pair
         teeth = round(pair.driver.perimeter / (math.pi * self.module))
-        n1 = pair.driver.lobes
-        coarser = teeth - n1
+        coarser = teeth - pair.driver.lobes
         sized, sizing = pair.sized(teeth=coarser)
-        found = []
+        reasons = []
         for z0 in SCREEN_CUTTERS:
-            lim = fouling_screen(sized, ShaperCutter(z0, sizing.module))
-            why = lim.problems(("ring", "planet")) or ["clear"]
-            found.append(f"{z0}-tooth cutter: {why[0]}")
+            for pin in (1.0, 0.8):
+                cutter = ShaperCutter(z0, sizing.module)
+                lim = fouling_screen(sized, cutter, pinion_addendum=pin)
+                found = lim.problems(("ring", "planet"), trochoid=False)
+                if not found:
+                    try:
+                        generate_pair(
+                            sized, cutter, sizing.teeth, addendum=(lim.ring_addendum, pin), check_interference=False
+                        )
+                        found = ["clear"]
+                    except GeometryError as exc:
+                        found = [f"the cutter cannot make it: {exc}"]
+                reasons.append(f"{z0}-tooth cutter, planet addendum {pin:g} m: {found[0]}")
         return (
-            f"binding at {coarser} ring teeth (m = {sizing.module:.3f} mm, one step coarser than {teeth}): " + found[0]
+            f"binding at {coarser} ring teeth (m = {sizing.module:.3f} mm, one step coarser than {teeth}): "
+            f"{reasons[0]} (and {len(reasons) - 1} other cutter/addendum choices: "
+            f"{sum(r.endswith('clear') for r in reasons)} clear)"
         )
 
     def _carrier_plate(self) -> tuple[dict, dict[str, bytes]]:
@@ -176,23 +192,16 @@ class PlanetaryStudy:
             notes,
             lambda pt: f"({pt[0]:.1f}, {pt[1]:.1f})",
         )
-        # the shop's reading: hole centres from the re-read DXF
-        back = [
-            c
-            for c in dxf.read_contours(files[f"{stem}.dxf"])
-            if shapely.Polygon(c).area < math.pi * (radius * 0.9) ** 2
-        ]
-        centres = sorted(
-            (
-                shapely.Polygon(c).centroid.coords[0]
-                for c in back
-                if abs(shapely.Polygon(c).area - math.pi * (holes[0][2] / 2) ** 2) < 1e-3 * holes[0][2] ** 2
-            ),
-            key=lambda c: math.atan2(c[1], c[0]) % (2 * math.pi),
-        )
-        err = max((math.dist(c, w) for c, w in zip(centres, want, strict=True)), default=math.inf)
+        # the shop's reading: the planet-shaft holes' centres from the re-read DXF, each design
+        # hole matched with the nearest re-read round hole of its diameter
+        area = math.pi * (holes[0][2] / 2) ** 2
+        rounds = [shapely.Polygon(c) for c in dxf.read_contours(files[f"{stem}.dxf"])]
+        centres = [p.centroid.coords[0] for p in rounds if abs(p.area - area) < 1e-3 * area]
+        err = max((min(math.dist(c, w) for c in centres) for w in want), default=math.inf)
         if len(centres) != tr.planets or err > 1e-3:
-            raise GeometryError(f"{self.name}: the carrier DXF's planet holes re-read {err:.3g} mm from the design")
+            raise GeometryError(
+                f"{self.name}: the carrier DXF's {len(centres)} planet holes re-read {err:.3g} mm from the design"
+            )
         res["planet_holes_readback_mm"] = significant(err)
         return res, files
 
