@@ -255,7 +255,7 @@ OPT_WIDTH = 12.0  # mm, face width of ring, planets and carrier
 RING_BOLTS = (8, 3.4)  # M3 clearance holes in the ring's rim
 CARRIER_BORE = 20.0  # mm, carrier shaft with a DIN 6885 key
 CARRIER_MARGIN = 12.0  # mm of plate beyond the planet-shaft holes
-SWEEP = (0.6, 0.7, 0.8, 0.9, 1.1, 1.2)  # ratio-variation factors for the trade-off plot
+SWEEP = (0.6, 0.8, 1.1, 1.2)  # ratio-variation factors for the trade-off plot
 
 
 def scaled(x, factor: float) -> tuple:

@@ -89,7 +89,9 @@ def full_verdict(case) -> dict:
         )
     except GeometryError as exc:  # the cutter cannot make this pair (e.g. secondary cutting)
         return {"module_mm": round(sizing.module, 6), "meshes": False, "cannot_cut": str(exc)}
-    rep = validate.mesh_check(pair, gears[0].polygon, gears[1].polygon, sizing.module, steps=STEPS, teeth=sizing.teeth[0])
+    rep = validate.mesh_check(
+        pair, gears[0].polygon, gears[1].polygon, sizing.module, steps=STEPS, teeth=sizing.teeth[0]
+    )
     return {
         "module_mm": round(sizing.module, 6),
         "max_overlap_mm2": float(f"{rep.max_penetration:.3e}"),

@@ -180,7 +180,9 @@ def test_arms_are_copies_only_when_the_lobe_numbers_allow(n1, n2, planets, ok):
 def test_train_from_a_ratio_law_closes_and_follows_it():
     """i(φ) = n(1 + A cos(nφ - p)): ring radius a i/(i - 1), planet a/(i - 1), both closed."""
     n, a, amp, ph = 4, 60.0, 0.3, 0.7
-    tr = DifferentialTrain.from_ratio(n, ((amp * math.cos(ph), amp * math.sin(ph)),), a, ArmGeometry(150, 80, -0.7), 0.7)
+    tr = DifferentialTrain.from_ratio(
+        n, ((amp * math.cos(ph), amp * math.sin(ph)),), a, ArmGeometry(150, 80, -0.7), 0.7
+    )
     phi = np.linspace(0, 2 * math.pi, 97)
     i = n * (1 + amp * np.cos(n * phi - ph))
     assert np.allclose(tr.pair.driver.r(phi), a * i / (i - 1), rtol=1e-12)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import io
 import math
+import textwrap
 
 import matplotlib
 
@@ -366,7 +367,8 @@ def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
         (axes[2], "gearbox_clearance_mm", "mm", (20.0, None), "gearbox clearance above the ground"),
     ):
         x = np.array([r[key] for r in rows])
-        ax.plot(x, module, "o-", color="C0", ms=4, lw=1)
+        order = np.argsort(x)
+        ax.plot(x[order], module[order], "o-", color="C0", ms=4, lw=1)
         k = chosen.index(True)
         ax.plot(x[k], module[k], "r*", ms=14, label="optimised design")
         lo, hi = band
@@ -376,6 +378,7 @@ def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
     axes[0].axhline(2.5, color="C3", ls="--", lw=1, label="module objective xi (2.5 mm)")
     axes[0].set_ylabel("largest meshing module (mm)")
     axes[0].legend(fontsize=7, loc="best")
-    fig.suptitle(f"{title}: largest module that meshes and can be cut — {binding}", fontsize=9)
-    fig.tight_layout()
+    fig.suptitle(f"{title}: largest module that meshes and can be cut, ratio variation scaled", fontsize=9)
+    fig.text(0.01, 0.01, "\n".join(textwrap.wrap(binding, 190)), fontsize=7, va="bottom")
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     return fig

@@ -130,7 +130,7 @@ class PlanetaryStudy:
                 }
             )
         binding = self._binding()
-        fig = plots.tradeoff_figure(rows, self.name, binding.split(":")[0])
+        fig = plots.tradeoff_figure(rows, self.name, binding)
         files = plots.figure_files(fig, f"{self.name}.tradeoff")
         keys = list(rows[0])
         files[f"{self.name}.tradeoff.csv"] = csv_bytes(keys, [[r[k] for k in keys] for r in rows])
