@@ -35,6 +35,14 @@ Under this reading the trajectory comes out close to the paper (picking 337.3 vs
 pushing 289.4 vs 296 deg, difference 47.9 vs 46 deg) but the gear pair is extreme: the planet
 pitch curve passes 3.84 mm from its axis and the pitch-curve pressure deviation reaches
 64.5 deg; the ``seed004`` pitch study reports these figures.
+
+The optimised train (``optimised_parts``) is the nearest design that can be built: the paper's
+layout (4:1 lobes, three planets) with its ratio law, carrier radius and arm found by
+``problem()`` against the paper's twelve objectives (``transplanter.objectives``) — largest
+module that meshes and can be cut, every objective met. Its ring, planets (make three) and
+carrier plate are made; the published reading is tabulated beside it (it misses x and xi).
+The speed ratio is not a free choice: ω1/ω2 = 1 - 1/n1 is the only one that returns the arm
+to its attitude each carrier turn, so the lobe number carries it.
 """
 
 import dataclasses

@@ -10,25 +10,25 @@ a tooth pair in contact at every step.
 
 Both cut the ring's tips as the screen's policy does (trimmed to the fillet limit less 0.02 m,
 ``fouling_screen(ring_addendum=None)``); the screen's verdict counts a contact ratio below 1 (the
-teeth let go) like the full check does. The full check takes 3-6 s a case, so ``python tests/screen_cases.py`` records the full
-verdicts in ``tests/data/screen_record.json``; ``tests/test_screen.py`` compares the screen with
-the record on every case and re-runs the full check live on two of them.
+teeth let go) like the full check does. The full check takes 3-6 s a case, so
+``python tests/screen_cases.py`` records the full verdicts in ``tests/data/screen_record.json``;
+``tests/test_screen.py`` compares the screen with the record on every case and re-runs the
+full check live on two of them.
 """
 
 from __future__ import annotations
 
 import json
-import math
 import sys
 from pathlib import Path
 
+from transplanter import validate
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError
 from transplanter.interference import fouling_screen
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 from transplanter.teeth import generate_pair
 from transplanter.tolerances import SHOP_OVERLAP_MM2
-from transplanter import validate
 
 RECORD = Path(__file__).parent / "data" / "screen_record.json"
 STEPS = 360

@@ -13,6 +13,7 @@ import json
 import time
 
 import pytest
+
 import screen_cases as sc
 
 
