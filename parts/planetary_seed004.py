@@ -283,6 +283,7 @@ def optimised_parts() -> tuple:
     planet_making = Making(width=OPT_WIDTH, features=Features(bore=PLANET_BORE))
     carrier = Features.bolt_circle(3, pair.centre_distance, PLANET_BORE, bore=CARRIER_BORE)
     return (
+        PitchPairStudy("optimised_pitch", pair, teeth=screen.teeth[0]),  # ν, curvature, convexity
         ToothedPairStudy(
             "optimised_ring_planet",
             pair,
