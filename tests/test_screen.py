@@ -10,7 +10,6 @@ stale unnoticed.
 """
 
 import json
-import time
 
 import pytest
 
@@ -45,15 +44,6 @@ def test_screen_verdict_agrees_with_the_full_meshing_check(record):
     assert len(agree) >= 20, (len(agree), conservative)
     assert sum(f for _, f in agree) >= 10 and sum(not f for _, f in agree) >= 5  # both verdicts
     assert len(conservative) <= len(sc.CASES) // 5, conservative
-
-
-def test_screen_is_fast():
-    case = ("sharp", 24, 12)
-    start = time.perf_counter()
-    for _ in range(5):
-        sc.screen_verdict(case)
-    per_case = (time.perf_counter() - start) / 5
-    assert per_case < 0.5  # loose: the full check takes ~10x longer even on a quiet machine
 
 
 @pytest.mark.parametrize("case", [("mild", 13, 12), ("mild", 13, 12, 1.0)])
