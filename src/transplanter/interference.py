@@ -70,11 +70,16 @@ __all__ = [
     "fouling_screen",
     "ScreenResult",
     "MIN_CONTACT_RATIO",
+    "TRIM_MARGIN",
+    "trimmed_addendum",
 ]
 
 #: a contact ratio below this leaves moments with a single tooth pair barely in contact; 1.1 is
 #: the usual design floor for spur gears (below 1 the teeth let go)
 MIN_CONTACT_RATIO = 1.1
+#: ring tips are trimmed this far (modules) under the closed-form limit: the limits are exact for
+#: the equivalent circular pairs, the margin covers the curvature sampled between positions
+TRIM_MARGIN = 0.02
 
 
 def _inv(a):
@@ -313,8 +318,18 @@ def pair_limits(
     k1 = pair.driver.curvature(phi1)
     k2 = pair.driven.curvature(pair.driven_contact_angle(phi1))
     k_ring, k_pin = (k1, k2) if pair.ring == "driver" else (k2, k1)
+    return _curvature_limits(
+        k_ring, k_pin, cutter, phi1, ring_addendum, pinion_addendum, ring_shift=ring_shift, pinion_shift=pinion_shift
+    )
+
+
+def _curvature_limits(
+    k_ring, k_pin, cutter, driver_angle, ring_addendum, pinion_addendum, ring_shift=0.0, pinion_shift=0.0
+) -> InternalLimits:
+    """:func:`internal_limits` of the equivalent circular pairs of curvatures ``k_ring``,
+    ``k_pin`` (1/mm) cut by ``cutter``; locally straight or concave positions (not internal) NaN."""
     with np.errstate(divide="ignore"):
-        rho_ring = np.where(k_ring > 0, 1.0 / k_ring, np.nan)  # locally straight/concave: not internal
+        rho_ring = np.where(k_ring > 0, 1.0 / k_ring, np.nan)
         rho_pin = np.where(k_pin > 0, 1.0 / k_pin, np.nan)
     return internal_limits(
         rho_ring,
@@ -327,7 +342,7 @@ def pair_limits(
         cutter_roll=cutter.involute_end_roll,
         ring_shift=ring_shift,
         pinion_shift=pinion_shift,
-        driver_angle=phi1,
+        driver_angle=driver_angle,
     )
 
 
@@ -401,30 +416,22 @@ def fouling_screen(
     return _windowed_limits(rolled, cutter, ring_addendum, pinion_addendum, window)
 
 
+def trimmed_addendum(limit: float) -> float:
+    """Ring-tip trimming: the addendum (modules) ``TRIM_MARGIN`` under ``limit``, rounded down to
+    0.01 m (``teeth.generate_pair(trim_ring_tips=True)`` and the screen both cut to it)."""
+    return math.floor((limit - TRIM_MARGIN) * 100) / 100
+
+
 def _trimmed(full: InternalLimits) -> float:
-    """The ring addendum (modules) trimmed to the fillet/cutter limit less 0.02 m, at most 1."""
-    return min(1.0, math.floor((full.max_ring_addendum - 0.02) * 100) / 100)
+    """The ring addendum trimmed to the fillet/cutter limit, at most a full addendum."""
+    return min(1.0, trimmed_addendum(full.max_ring_addendum))
 
 
 def _windowed_limits(rolled: _Rolled, cutter, ring_addendum, pinion_addendum, window) -> InternalLimits:
-    m = cutter.module
-    size = 2 * math.ceil(window * math.pi * m / rolled.step) + 1
+    size = 2 * math.ceil(window * math.pi * cutter.module / rolled.step) + 1
     k_ring = maximum_filter1d(rolled.ring, size, mode="wrap")
     k_pin = maximum_filter1d(rolled.pinion, size, mode="wrap")
-    with np.errstate(divide="ignore"):
-        rho_ring = np.where(k_ring > 0, 1.0 / k_ring, np.nan)
-        rho_pin = np.where(k_pin > 0, 1.0 / k_pin, np.nan)
-    return internal_limits(
-        rho_ring,
-        rho_pin,
-        m,
-        pressure_angle=cutter.pressure_angle,
-        ring_addendum=ring_addendum,
-        pinion_addendum=pinion_addendum,
-        cutter_radius=cutter.pitch_radius,
-        cutter_roll=cutter.involute_end_roll,
-        driver_angle=rolled.driver_angle,
-    )
+    return _curvature_limits(k_ring, k_pin, cutter, rolled.driver_angle, ring_addendum, pinion_addendum)
 
 
 def screen_module(

@@ -45,7 +45,7 @@ from scipy.interpolate import PPoly
 from transplanter.backlash import resolve_backlash
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, TransplanterError, check_int, check_number
-from transplanter.interference import ScreenResult, pair_limits, screen_module
+from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
 
@@ -599,7 +599,7 @@ def generate_pair(
 
         lim = limits()
         if trim_ring_tips and lim.max_ring_addendum < add[r]:
-            trimmed = math.floor((lim.max_ring_addendum - 0.02) * 100) / 100
+            trimmed = trimmed_addendum(lim.max_ring_addendum)
             if trimmed > MIN_TRIMMED_ADDENDUM:
                 add[r] = trimmed
                 lim = limits()
