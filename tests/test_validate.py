@@ -186,3 +186,46 @@ def test_planet_driven_ring_agrees_with_the_circular_interference_limit():
         r = mesh_check(pair, pinion.polygon, ring.polygon, m, steps=20, teeth=30)
         assert bool(r.problems()) is fails, (addendum, r.summary())
     assert r.min_contacts >= 2
+
+
+def _reference_cases(ellipse_pair, four_lobe_ring_pair):
+    pair, sizing = ellipse_pair
+    cutter = ShaperCutter(20, 2.0)
+    zero = generate_pair(pair, cutter, sizing.teeth, backlash=0.0)
+    close = dataclasses.replace(pair, centre_distance=pair.centre_distance - 0.3)
+    yield "zero backlash", pair, *(g.polygon for g in zero), None
+    yield "0.1 mm backlash", pair, *(g.polygon for g in generate_pair(pair, cutter, sizing.teeth, backlash=0.1)), None
+    yield "centre 0.3 mm close", close, *(g.polygon for g in zero), None
+    ring_pair, s4 = four_lobe_ring_pair
+    cutter = ShaperCutter(16, 2.0)
+    planet = generate(ring_pair.driven, cutter, s4.teeth[1], phase=0.5).polygon
+    for addendum in (1.0, 0.7):
+        ring = generate(ring_pair.driver, cutter, s4.teeth[0], internal=True, addendum=addendum).polygon
+        yield f"ring drives, addendum {addendum}", ring_pair, ring, planet, s4.teeth[0]
+    pc, _ = GearPair.from_ratio(Constant(0.5), 30.0, "internal", ring="driven").sized(module=2.0)
+    ring = generate(pc.driven, cutter, 60, internal=True, phase=0.5, addendum=0.75).polygon
+    yield "pinion drives ring", pc, generate(pc.driver, cutter, 30).polygon, ring, 30
+
+
+def test_closed_form_check_gives_the_reference_answers(ellipse_pair, four_lobe_ring_pair):
+    """The vectorised check against the root-finding implementation it replaced, kept in
+    ``tests/reference_meshing.py``: meshing, backlash, interfering and internal pairs (either
+    gear driving). Contact arcs and backlash agree within MESH_REFERENCE_MM, overlap areas to
+    round-off, contact counts exactly where the teeth do not overlap (where they do, the
+    counted places of an overlap can differ by one)."""
+    from reference_meshing import mesh_check_reference
+    from transplanter.tolerances import MESH_REFERENCE_MM
+
+    for name, pair, driver, driven, teeth in _reference_cases(ellipse_pair, four_lobe_ring_pair):
+        new = mesh_check(pair, driver, driven, 2.0, steps=24, teeth=teeth)
+        ref = mesh_check_reference(pair, driver, driven, 2.0, steps=24, teeth=teeth)
+        r2 = np.abs(pair.driver.r(ref.driver_angle) - (-1 if pair.ring == "driven" else 1) * pair.centre_distance)
+        np.testing.assert_allclose(new.driven_error * r2, ref.driven_error * r2, atol=MESH_REFERENCE_MM, err_msg=name)
+        np.testing.assert_allclose(new.backlash, ref.backlash, atol=MESH_REFERENCE_MM, err_msg=name)
+        np.testing.assert_allclose(new.penetration, ref.penetration, rtol=1e-9, atol=1e-12, err_msg=name)
+        np.testing.assert_allclose(new.fouling, ref.fouling, rtol=1e-9, atol=1e-12, err_msg=name)
+        np.testing.assert_array_equal(new.overlap_side, ref.overlap_side, err_msg=name)
+        clear = ref.penetration == 0
+        np.testing.assert_array_equal(new.contacts[clear], ref.contacts[clear], err_msg=name)
+        assert np.all(np.abs(new.contacts - ref.contacts) <= 1), name
+        assert new.problems() == ref.problems(), name

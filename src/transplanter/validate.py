@@ -54,7 +54,7 @@ import numpy as np
 import shapely
 from scipy import optimize
 
-from transplanter import cams
+from transplanter import cams, contact
 from transplanter.errors import GeometryError, SpecError
 from transplanter.export import significant
 
@@ -189,10 +189,6 @@ class MeshReport:
         return out
 
 
-def _place(poly, angle, shift):
-    return shapely.affinity.translate(shapely.affinity.rotate(poly, angle, origin=(0, 0), use_radians=True), *shift)
-
-
 def _coprime(steps: int, teeth: int | None) -> int:
     if teeth is None:
         return steps
@@ -205,6 +201,10 @@ def _polygon(name: str, poly):
     if not isinstance(poly, shapely.Polygon | shapely.MultiPolygon) or poly.is_empty or not poly.is_valid:
         raise GeometryError(f"{name} must be a valid, non-empty shapely polygon (the gear outline)")
     return poly
+
+
+#: meshing steps computed together (their vertex/edge pairs held at once)
+MESH_CHUNK = 64
 
 
 def mesh_check(
@@ -223,91 +223,196 @@ def mesh_check(
     contact is searched (the path of contact reaches ~2.5 modules either side);
     ``contact_tol`` (mm) the gap that counts as contact; ``teeth`` the driver's tooth count
     (``steps`` is raised until coprime with it).
+
+    How: in closed form on the outlines' vertices and edges, every step at once
+    (:mod:`transplanter.contact`), no root finding and no whole-outline Booleans:
+
+    - **first contact** either way of the design angle: the nearest turn of the driven gear at
+      which a vertex of one gear meets an edge of the other inside the window — exact for the
+      polygons (the root search it replaced stopped at 1e-8 mm; ``tests/reference_meshing.py``
+      keeps it). The driven gear's vertices are first taken within half a module of the window,
+      which holds any contact within that arc; a step whose contact lies further is redone
+      with the full reach (a tooth of free play);
+    - **overlap**: the vertices in the sectors where the gears reach each other are tested
+      against the other gear (radius bounds, then prepared point-in-polygon); only where some
+      lie inside is the overlap intersected, on both outlines clipped to their bounds;
+    - **contacts**: with the driving flanks closed up, the runs of the driven boundary within
+      ``contact_tol`` of the driver (point–segment distances).
     """
     if not isinstance(steps, int) or steps < 4:
         raise SpecError.out_of_range("steps", steps, "an integer >= 4")
-    driver_polygon = _polygon("driver_polygon", driver_polygon)
-    driven_polygon = _polygon("driven_polygon", driven_polygon)
+    drv = contact.Outline(_polygon("driver_polygon", driver_polygon))
+    drn = contact.Outline(_polygon("driven_polygon", driven_polygon))
     steps = _coprime(steps, teeth)
-    a = pair.centre_distance
-    external = pair.ring is None
-    ring_drives = pair.ring == "driver"
-    centre = -a if pair.ring == "driven" else a  # a driven ring's centre is beyond the planet's
-    half = window * module
-    phi1 = 2 * math.pi * np.arange(steps) / steps
-    r1 = pair.driver.r(phi1)
-    theta2 = pair.driven_rotation(phi1)
-    r2 = np.abs(r1 - centre)
-    pen, foul, dist, te, bl, nc = (np.zeros(steps) for _ in range(6))
-    side = np.zeros(steps, dtype=np.int8)
-    for k in range(steps):
-        px = float(r1[k])
-        box = shapely.box(px - half, -half, px + half, half)
-        drv_full = _place(driver_polygon, -phi1[k], (0.0, 0.0))
-        drv = shapely.intersection(drv_full, box)
-        shapely.prepare(drv)
-
-        ang0 = (math.pi + theta2[k]) if external else -theta2[k]
-        whole = _place(driven_polygon, ang0, (centre, 0.0))
-        span = 2 * module / max(float(r2[k]), module)  # about a tooth of free play
-        # what can enter the window while the driven gear turns by up to ±span about (a, 0)
-        reach = span * (abs(px - centre) + 2 * half) + module
-        local = shapely.clip_by_rect(whole, px - half - reach, -half - reach, px + half + reach, half + reach)
-        turn = 1.0 if external else -1.0
-
-        def driven(delta, local=local, box=box, turn=turn):
-            moved = shapely.affinity.rotate(local, turn * delta, origin=(centre, 0.0), use_radians=True)
-            return shapely.intersection(moved, box)
-
-        def gap(delta, drv=drv):
-            # signed: the distance apart, or minus the overlap area^(2/3) — two curved flanks
-            # pressed d into each other overlap by an area ∝ d^1.5, so this is ∝ d and keeps
-            # brentq's interpolation useful, at a fraction of the cost of a penetration depth
-            g = driven(delta)
-            if not shapely.intersects(drv, g):
-                return float(shapely.distance(drv, g))
-            return -(max(shapely.intersection(drv, g).area, 1e-300) ** (2 / 3))
-
-        # interference anywhere: the driver clipped to the driven gear's extent
-        overlap = shapely.intersection(shapely.clip_by_rect(drv_full, *whole.bounds), whole)
-        pieces = [g for g in getattr(overlap, "geoms", [overlap]) if g.area > 0]
-        if pieces:
-            pen[k] = overlap.area
-            away = [
-                g for g in pieces if math.hypot(g.centroid.x - px, g.centroid.y) > FOULING_PITCHES * math.pi * module
-            ]
-            foul[k] = sum(g.area for g in away)
-            big = max(pieces, key=lambda g: g.area)
-            cx, cy = big.centroid.x, big.centroid.y
-            dist[k] = math.hypot(cx - px, cy)
-            body = math.atan2(cy, cx) + phi1[k]  # polar angle in the driver body
-            beyond = math.hypot(cx, cy) > float(pair.driver.r(body))
-            side[k] = 1 if beyond != ring_drives else 2  # a gear's tips are beyond its pitch curve, a ring's inside
-        found = []
-        at_design = gap(0.0)
-        rho = max(float(r2[k]), module)
-        for sign in (-1.0, 1.0):  # first contact backwards (driving flanks) and forwards (coast)
-            if at_design <= 0:  # already touching at the design angle
-                found.append(0.0)
-                continue
-            # bracket from the design angle outwards: a step a little over the gap, then ×4
-            lo, hi = 0.0, min(span, 1.5 * at_design / rho)
-            g_hi = gap(sign * hi)
-            while g_hi > 0 and hi < span:
-                lo, hi = hi, min(span, 4 * hi)
-                g_hi = gap(sign * hi)
-            if g_hi > 0:
-                found.append(sign * span)
-            else:
-                found.append(optimize.brentq(gap, sign * lo, sign * hi, xtol=1e-8 / rho))
-        te[k] = found[0]
-        bl[k] = (found[1] - found[0]) * float(r2[k])
-        # tooth pairs in contact with the driving flanks closed up
-        near = shapely.intersection(drv.buffer(contact_tol, quad_segs=2), driven(found[0]))
-        nc[k] = len(getattr(near, "geoms", [near])) if not near.is_empty else 0
-    arc = te * r2
+    mesh = _Mesh(pair, drv, drn, module, steps, window * module, contact_tol)
+    for start in range(0, steps, MESH_CHUNK):
+        mesh.run(np.arange(start, min(steps, start + MESH_CHUNK)))
+    arc = mesh.te * mesh.r2
     offset = float(arc.mean())
-    return MeshReport(phi1, pen, arc - offset, bl, nc, foul, dist, side, te, offset)
+    return MeshReport(
+        mesh.phi1, mesh.pen, arc - offset, mesh.bl, mesh.nc, mesh.foul, mesh.dist, mesh.side, mesh.te, offset
+    )
+
+
+class _Mesh:
+    """The arrays of one :func:`mesh_check` and the stages that fill them, a chunk of steps at a time."""
+
+    def __init__(self, pair, drv, drn, module, steps, half, tol):
+        self.pair, self.drv, self.drn, self.module, self.half, self.tol = pair, drv, drn, module, half, tol
+        self.external = pair.ring is None
+        self.centre = -pair.centre_distance if pair.ring == "driven" else pair.centre_distance
+        self.turn = 1.0 if self.external else -1.0  # the driven gear's sense for a positive δ
+        self.phi1 = 2 * math.pi * np.arange(steps) / steps
+        self.r1 = pair.driver.r(self.phi1)
+        theta2 = pair.driven_rotation(self.phi1)
+        self.r2 = np.abs(self.r1 - self.centre)
+        self.psi1 = -self.phi1
+        self.psi2 = (math.pi + theta2) if self.external else -theta2
+        self.span = 2 * module / np.maximum(self.r2, module)  # about a tooth of free play
+        self.sectors = (
+            contact.reach_sector(drv, 0.0, drn, self.centre, pair.ring == "driven"),
+            contact.reach_sector(drn, self.centre, drv, 0.0, pair.ring == "driver"),
+        )
+        self.pen, self.foul, self.dist, self.te, self.bl, self.nc = (np.zeros(steps) for _ in range(6))
+        self.side = np.zeros(steps, dtype=np.int8)
+
+    def _in_box(self, p, px, grow=0.0):
+        g = self.half + grow
+        return (np.abs(p[..., 0] - px) <= g) & (np.abs(p[..., 1]) <= g)
+
+    def run(self, ks: np.ndarray) -> None:
+        overlapping, marks = self._overlap(ks)
+        px = self.r1[ks]
+        box_rho = np.abs(px - self.centre) + math.sqrt(2) * (self.half + self.drv.longest)
+        near = 0.5 * self.module  # first pass: the driven gear's vertices within this of the window
+        valid = self._window(ks, np.arange(len(ks)), np.full(len(ks), near), near / box_rho, overlapping, marks)
+        redo = np.flatnonzero(~valid)
+        if len(redo):
+            k = ks[redo]
+            reach = self.span[k] * (np.abs(self.r1[k] - self.centre) + 2 * self.half) + self.module
+            self._window(ks, redo, reach, self.span[k], overlapping, marks, final=True)
+
+    def _overlap(self, ks):
+        """Overlap anywhere, by the vertices of each gear inside the other; fills pen, foul, dist,
+        side. Returns whether the overlap reaches the window, and the driven vertices inside the
+        driver in the window as keys (chunk step × size + index)."""
+        drv, drn, c = self.drv, self.drn, self.centre
+        psi1, psi2 = self.psi1[ks], self.psi2[ks]
+        s1, i1 = drv.gather(self.sectors[0], psi1)
+        p1 = drv.placed(i1, psi1, at=s1)
+        in1 = drn.inside(contact.rotate(p1 - (c, 0.0), -psi2, s1), self.pair.ring == "driven")
+        s2, i2 = drn.gather(self.sectors[1], psi2)
+        p2 = drn.placed(i2, psi2, c, s2)
+        in2 = drv.inside(contact.rotate(p2, -psi1, s2), self.pair.ring == "driver")
+        pts = np.concatenate((p1[in1], p2[in2]))
+        st = np.concatenate((s1[in1], s2[in2]))
+        px = self.r1[ks]
+        overlapping = np.zeros(len(ks), dtype=bool)
+        overlapping[st[self._in_box(pts, px[st])]] = True
+        s2, i2, p2 = s2[in2], i2[in2], p2[in2]
+        boxed = self._in_box(p2, px[s2])
+        marks = s2[boxed] * len(drn.xy) + i2[boxed]
+        margin = 2 * max(drv.longest, drn.longest) + 1e-6
+        for j in np.unique(st):
+            k = int(ks[j])
+            mine = pts[st == j]
+            x0, y0 = mine.min(axis=0) - margin
+            x1, y1 = mine.max(axis=0) + margin
+            overlap = shapely.intersection(
+                shapely.clip_by_rect(drv.whole(float(psi1[j])), x0, y0, x1, y1),
+                shapely.clip_by_rect(drn.whole(float(psi2[j]), c), x0, y0, x1, y1),
+            )
+            self._pieces(k, overlap)
+        return overlapping, marks
+
+    def _pieces(self, k: int, overlap) -> None:
+        pieces = [g for g in getattr(overlap, "geoms", [overlap]) if g.area > 0]
+        if not pieces:
+            return
+        px, module = float(self.r1[k]), self.module
+        self.pen[k] = overlap.area
+        away = [g for g in pieces if math.hypot(g.centroid.x - px, g.centroid.y) > FOULING_PITCHES * math.pi * module]
+        self.foul[k] = sum(g.area for g in away)
+        big = max(pieces, key=lambda g: g.area)
+        cx, cy = big.centroid.x, big.centroid.y
+        self.dist[k] = math.hypot(cx - px, cy)
+        body = math.atan2(cy, cx) + self.phi1[k]  # polar angle in the driver body
+        beyond = math.hypot(cx, cy) > float(self.pair.driver.r(body))
+        # a gear's tips are beyond its pitch curve, a ring's inside
+        self.side[k] = 1 if beyond != (self.pair.ring == "driver") else 2
+
+    def _window(self, ks, sel, reach, limit, overlapping, marks, final=False) -> np.ndarray:
+        """First contact either way, backlash and contact count for chunk steps ``sel``, with the
+        driven gear's vertices taken within ``reach`` of the window and contacts within turns of
+        ``limit``. Writes te, bl, nc for the steps it settles; returns which ones."""
+        drv, drn, c, turn, tol = self.drv, self.drn, self.centre, self.turn, self.tol
+        k = ks[sel]
+        px = self.r1[k]
+        psi1, psi2 = self.psi1[k], self.psi2[k]
+        # driver vertices within an edge of the window (every edge reaching it starts there)
+        g1 = self.half + drv.longest
+        hw = np.where(px > g1, np.arctan2(g1, np.maximum(px - g1, 1e-300)), math.pi)
+        s1, j1 = drv.gather([(-hw, hw)], psi1)
+        q1 = drv.placed(j1, psi1, at=s1)
+        keep = self._in_box(q1, px[s1], drv.longest)
+        s1, j1, q1 = s1[keep], j1[keep], q1[keep]
+        e1 = drv.placed(drv.next[j1], psi1, -c, s1)
+        in_box1 = self._in_box(q1, px[s1])
+        q1 = q1 - (c, 0.0)  # about the driven centre from here on
+        # driven vertices within reach of the window
+        g2 = self.half + reach + drn.longest
+        d = px - c
+        hw = np.where(np.abs(d) > g2, np.arctan2(g2, np.maximum(np.abs(d) - g2, 1e-300)), math.pi)
+        mid = np.where(d >= 0, 0.0, math.pi)
+        s2, j2 = drn.gather([(mid - hw, mid + hw)], psi2)
+        q2 = drn.placed(j2, psi2, c, s2)
+        keep = (np.abs(q2[:, 0] - px[s2]) <= g2[s2]) & (np.abs(q2[:, 1]) <= g2[s2])
+        s2, j2, q2 = s2[keep], j2[keep], q2[keep] - (c, 0.0)
+        e2 = drn.placed(drn.next[j2], psi2, at=s2)
+
+        # driven vertex meets driver edge (a), driver vertex in the window meets driven edge (b)
+        # (only pairs close enough to meet within the limit, or to be within tol once turned by it)
+        va, ea = contact.pairs(q2, s2, q1, e1, s1, tol)
+        va, ea = contact.within(q2, va, q1, ea, limit[s1[ea]], drv.longest + tol)
+        b1 = np.flatnonzero(in_box1)
+        vb, eb = contact.pairs(q1[b1], s1[b1], q2, e2, s2, tol)
+        vb = b1[vb]
+        vb, eb = contact.within(q1, vb, q2, eb, limit[s1[vb]], drn.longest + tol)
+        sa, sb = s1[ea], s1[vb]
+        xa, oka = contact.crossings(q2[va], q1[ea], e1[ea])
+        oka &= self._in_box(xa + (c, 0.0), px[sa])
+        da = turn * contact.angle_between(q2[va], xa)
+        xb, okb = contact.crossings(q1[vb], q2[eb], e2[eb])
+        db = -turn * contact.angle_between(q1[vb], xb)
+        meet = np.concatenate((da[oka], db[okb]))
+        owner = np.concatenate((np.broadcast_to(sa, oka.shape)[oka], np.broadcast_to(sb, okb.shape)[okb]))
+        ok = np.abs(meet) <= limit[owner]
+        meet, owner = meet[ok], owner[ok]
+        back = np.full(len(k), -np.inf)
+        fwd = np.full(len(k), np.inf)
+        np.maximum.at(back, owner[meet <= 0], meet[meet <= 0])
+        np.minimum.at(fwd, owner[meet >= 0], meet[meet >= 0])
+        over = overlapping[sel]
+        valid = over | (np.isfinite(back) & np.isfinite(fwd)) | final
+        back = np.where(over, 0.0, np.where(np.isfinite(back), back, -limit))
+        fwd = np.where(over, 0.0, np.where(np.isfinite(fwd), fwd, limit))
+        self.te[k] = np.where(valid, back, self.te[k])
+        self.bl[k] = np.where(valid, (fwd - back) * self.r2[k], self.bl[k])
+
+        # contact places with the driving flanks closed up: runs of the driven boundary within
+        # tol of the driver (a driver vertex near a driven edge marks that edge's start)
+        pa = contact.rotate(q2[va], turn * back, sa)
+        near_a = (contact.segment_distance(pa, q1[ea], e1[ea]) <= tol) & self._in_box(pa + (c, 0.0), px[sa])
+        pb = contact.rotate(q1[vb], -turn * back, sb)
+        near_b = contact.segment_distance(pb, q2[eb], e2[eb]) <= tol
+        size = len(drn.xy)
+        keys = [sel[s2[va[near_a]]] * size + j2[va[near_a]], sel[s2[eb[near_b]]] * size + j2[eb[near_b]]]
+        mine = np.isin(marks // size, sel[over])
+        keys = np.unique(np.concatenate([*keys, marks[mine]]))
+        starts = keys[~np.isin((keys // size) * size + drn.prev[keys % size], keys)]
+        counted = np.bincount(starts // size, minlength=len(ks))[sel]
+        self.nc[k] = np.where(valid, counted, self.nc[k])
+        return valid
 
 
 @dataclass(frozen=True)
