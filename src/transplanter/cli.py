@@ -1,26 +1,26 @@
 """Command line: ``transplanter build`` and ``transplanter analyse``.
 
 ``transplanter build`` with no arguments builds every part script in ``./parts`` into
-``./exports/<family>/``; ``transplanter build parts/x.py -o DIR --jobs N`` builds the named
-scripts. ``transplanter analyse parts/x.py`` prints the metrics tables of the four-bar arms
-(the seed-000 Table 2 layout) and planetary trains (beside published values) in a script and,
-with ``--plots DIR``, writes the arms' plots. ``transplanter optimise parts/x.py --seed S``
-runs differential evolution on the script's ``problem()`` with a progress line per generation
-and prints the best parameters as JSON. ``transplanter check exports/<family>`` (or ``transplanter check`` for every
-family in ``exports/``) re-runs the
-meshing and follower checks on the files already on disk, recomputes the analyses and
-compares their data files, and verifies every file's SHA-256 against the manifest; it exits
-1 if a part that must mesh does not, or a file is missing, changed or stale.
-Exit status: 0 on success, 1 if any part failed or a file could not be written (disk full,
-permissions, another build writing the same folder), 2 on bad input (message on stderr).
-``transplanter --version`` prints the version; ``python -m transplanter`` is the same command.
+``./exports/<family>/``; ``transplanter build parts/x.py -o DIR --jobs N`` builds the named scripts,
+their parts spread over N processes (default: one per available core). ``transplanter analyse
+parts/x.py`` prints the metrics tables of the four-bar arms (the seed-000 Table 2 layout) and
+planetary trains (beside published values) in a script and, with ``--plots DIR``, writes the arms'
+plots. ``transplanter optimise parts/x.py --seed S`` runs differential evolution on the script's
+``problem()`` with a progress line per generation and prints the best parameters as JSON.
+``transplanter check exports/<family>`` (or ``transplanter check`` for every family in ``exports/``)
+re-runs the meshing and follower checks on the files already on disk, recomputes the analyses and
+compares their data files, and verifies every file's SHA-256 against the manifest; it exits 1 if a
+part that must mesh does not, or a file is missing, changed or stale. Exit status: 0 on success, 1
+if any part failed or a file could not be written (disk full, permissions, another build writing the
+same folder), 2 on bad input (message on stderr). ``transplanter --version`` prints the version;
+``python -m transplanter`` is the same command.
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from transplanter import __version__
@@ -29,53 +29,41 @@ from transplanter.errors import ExportError, TransplanterError
 __all__ = ["main"]
 
 
-def _build_one(script: str, out: str, verbose: bool = True) -> tuple[str, bool, list[str]]:
-    import time
-
-    from transplanter.families import build_family, load_family
-
-    fam = load_family(script)
-    start = time.perf_counter()
-    count = len(fam.parts)
-    done = [0]
-
-    def progress(label: str) -> None:  # a progress line per part, with the elapsed time
-        done[0] += 1
-        if verbose:
-            print(f"    part {done[0]}/{count} {label}  ({time.perf_counter() - start:.1f} s)", file=sys.stderr)
-
-    manifest = build_family(fam, out, progress)
-    errors = [f"{fam.name}/{k}: {v['error']}" for k, v in manifest["parts"].items() if "error" in v]
-    return fam.name, manifest["ok"], errors
+def _default_jobs() -> int:
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 def _cmd_build(args: argparse.Namespace) -> int:
-    from transplanter.families import discover
+    import time
+
+    from transplanter.families import build_families, discover, load_family
 
     scripts = [Path(s) for s in args.scripts] or discover(args.parts)
     if not scripts:
         print(f"no part scripts found in {args.parts}", file=sys.stderr)
         return 2
+    start = time.perf_counter()
+    families = [load_family(s) for s in scripts]
+    total = sum(len(f.parts) for f in families)
+    done = [0]
+
+    def progress(label: str) -> None:  # a line per part as it is done, with the elapsed time
+        done[0] += 1
+        print(f"[{done[0]}/{total}] {label}  ({time.perf_counter() - start:.1f} s)", file=sys.stderr)
+
+    jobs = args.jobs if args.jobs is not None else _default_jobs()
+    manifests = build_families(families, args.output, jobs=min(jobs, max(total, 1)), progress=progress)
     ok = True
-    total = len(scripts)
-    if args.jobs > 1 and total > 1:
-        with ProcessPoolExecutor(max_workers=args.jobs) as pool:
-            futures = [pool.submit(_build_one, str(s), args.output, False) for s in scripts]
-            results = []
-            for i, f in enumerate(futures, 1):
-                results.append(f.result())
-                print(f"[{i}/{total}] {results[-1][0]}", file=sys.stderr)
-    else:
-        results = []
-        for i, s in enumerate(scripts, 1):
-            print(f"[{i}/{total}] {s}", file=sys.stderr)
-            results.append(_build_one(str(s), args.output))
-    for name, fam_ok, errors in results:
-        status = "ok" if fam_ok else "FAILED"
-        print(f"{name}: {status} -> {Path(args.output) / name}")
-        for e in errors:
-            print(f"  error: {e}", file=sys.stderr)
-        ok = ok and fam_ok
+    for manifest in manifests:
+        name = manifest["family"]
+        print(f"{name}: {'ok' if manifest['ok'] else 'FAILED'} -> {Path(args.output) / name}")
+        for part, rec in manifest["parts"].items():
+            if "error" in rec:
+                print(f"  error: {name}/{part}: {rec['error']}", file=sys.stderr)
+        ok = ok and manifest["ok"]
     return 0 if ok else 1
 
 
@@ -220,7 +208,9 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("scripts", nargs="*", help="part scripts (default: every script in --parts)")
     b.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")
     b.add_argument("--parts", default="parts", help="folder of part scripts (default: parts)")
-    b.add_argument("--jobs", type=int, default=1, help="build families in N processes")
+    b.add_argument(
+        "--jobs", type=int, default=None, help="build the parts in N processes (default: one per available core)"
+    )
     a = sub.add_parser("analyse", aliases=["analyze"], help="print the planting metrics of a part script's arms")
     a.add_argument("script", help="part script")
     a.add_argument("--plots", metavar="DIR", help="also write path and kinematics plots to DIR")
@@ -237,7 +227,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         if args.command == "build":
-            if args.jobs < 1:
+            if args.jobs is not None and args.jobs < 1:
                 parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
             return _cmd_build(args)
         if args.command in ("optimise", "optimize"):

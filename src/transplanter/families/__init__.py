@@ -42,7 +42,15 @@ Part kinds so far
 :func:`check_family` re-runs the checks on a built folder (``transplanter check``).
 """
 
-from transplanter.families.build import Family, build_family, check_family, discover, load_family
+from transplanter.families.build import (
+    Family,
+    build_families,
+    build_family,
+    check_family,
+    discover,
+    load_family,
+    part_outcome,
+)
 from transplanter.families.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
 from transplanter.families.gears import MESH_STEPS, ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
@@ -64,6 +72,8 @@ __all__ = [
     "load_family",
     "discover",
     "build_family",
+    "build_families",
+    "part_outcome",
     "check_family",
     "MESH_STEPS",
     "FOLLOWER_STEPS",

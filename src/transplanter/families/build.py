@@ -22,7 +22,7 @@ from transplanter.families.synthesis import SynthesisStudy
 from transplanter.families.trains import PlanetaryStudy
 from transplanter.report import family_report
 
-__all__ = ["Family", "load_family", "discover", "build_family", "check_family"]
+__all__ = ["Family", "load_family", "discover", "part_outcome", "build_family", "build_families", "check_family"]
 
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
@@ -130,13 +130,30 @@ def _previous_manifest(root: Path) -> dict:
     return data
 
 
-def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], None] | None = None) -> dict:
+def part_outcome(part: Part, root: Path) -> tuple[dict, dict[str, bytes]] | str:
+    """Build one part: its (record, files), or the error the manifest records for it — any
+    exception a part raises is its failure (a project error by its message; anything else with
+    its type, as a bug to report)."""
+    try:
+        return part.build(root)
+    except TransplanterError as exc:
+        return f"{type(exc).__name__}: {exc}"
+    except Exception as exc:  # a bug, or a library error that escaped: the part fails, the build goes on
+        return f"{type(exc).__name__} (unexpected, please report): {exc}"
+
+
+def build_family(
+    family: Family,
+    out_dir: str | Path,
+    progress: Callable[[str], None] | None = None,
+    outcomes: dict[str, tuple[dict, dict[str, bytes]] | str] | None = None,
+) -> dict:
     """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest.
 
     The manifest (also written as ``manifest.json``) lists for each part its parameters,
-    results, files with SHA-256, or its error — any exception a part raises is recorded as
-    that part's failure (a project error by its message; anything else with its type, as a
-    bug to report). ``manifest["ok"]`` is False if any part failed.
+    results, files with SHA-256, or its error (:func:`part_outcome`). ``manifest["ok"]`` is
+    False if any part failed. ``outcomes`` (part name → :func:`part_outcome`) are parts built
+    elsewhere, e.g. in other processes (:func:`build_families`); the parts are then only written.
 
     The folder is written as one transaction (``export.Transaction``): it is the old export
     until the new one is complete, then the new one; a failing part keeps its previous files
@@ -150,21 +167,20 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
     with Transaction(root) as tx:
         old = _previous_manifest(root)
         for part in family.parts:
-            if progress is not None:
-                progress(f"{family.name}/{part.name}")
-            try:
-                record, files = part.build(root)
-            except TransplanterError as exc:
-                error = f"{type(exc).__name__}: {exc}"
-            except Exception as exc:  # a bug, or a library error that escaped: the part fails, the build goes on
-                error = f"{type(exc).__name__} (unexpected, please report): {exc}"
+            if outcomes is None:
+                if progress is not None:
+                    progress(f"{family.name}/{part.name}")
+                outcome = part_outcome(part, root)
             else:
+                outcome = outcomes[part.name]
+            if not isinstance(outcome, str):
+                record, files = outcome
                 for fname, data in sorted(files.items()):
                     tx.write(fname, data)
                 record["files"] = {fname: _sha256(data) for fname, data in sorted(files.items())}
                 manifest["parts"][part.name] = record
                 continue
-            failed: dict = {"error": error}
+            failed: dict = {"error": outcome}
             before = old.get("parts", {}).get(part.name, {})
             kept = before.get("files", before.get("previous_files", {}))
             kept = {f: h for f, h in sorted(kept.items()) if tx.keep(f)}
@@ -177,6 +193,77 @@ def build_family(family: Family, out_dir: str | Path, progress: Callable[[str], 
         manifest["report"] = {"report.html": _sha256(report)}
         tx.write("manifest.json", json_bytes(manifest))
     return manifest
+
+
+#: families being built by :func:`build_families`, inherited by forked workers (by name)
+_FAMILIES: dict[str, Family] = {}
+
+#: rough relative cost of a part by kind, to hand out the longest parts first
+_COST = {ToothedPairStudy: 10, PlanetaryStudy: 6, CamStudy: 5, PitchPairStudy: 2, SynthesisStudy: 2}
+
+
+def _outcome_in_worker(family: str, script: str | None, part: str):
+    fam = _FAMILIES.get(family)
+    if fam is None:  # a worker that was not forked from the builder: load the script itself
+        fam = _FAMILIES[family] = load_family(script)
+    return part_outcome(next(p for p in fam.parts if p.name == part), Path("."))
+
+
+def build_families(
+    families: list[Family],
+    out_dir: str | Path,
+    jobs: int = 1,
+    progress: Callable[[str], None] | None = None,
+) -> list[dict]:
+    """Build ``families`` into ``out_dir``, their parts spread over ``jobs`` processes; returns
+    their manifests in order.
+
+    The parts are handed out longest kind first (gear pairs, trains, cams, ...) to whichever
+    process is free, and each family is written (:func:`build_family`) as soon as its last part
+    is done, by this process, in the family's own part order — so the files are byte-identical
+    to a serial build. ``progress`` gets ``family/part`` as each part finishes.
+    """
+    if jobs <= 1:
+        return [build_family(f, out_dir, progress) for f in families]
+    import multiprocessing
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+    from concurrent.futures.process import BrokenProcessPool
+
+    names = [f.name for f in families]
+    if len(set(names)) != len(names):
+        raise PartScriptError(f"two part scripts define the same family name: {sorted(names)}")
+    _FAMILIES.clear()
+    _FAMILIES.update((f.name, f) for f in families)
+    tasks = [(f, i, p) for f in families for i, p in enumerate(f.parts)]
+    tasks.sort(key=lambda t: -_COST.get(type(t[2]), 1))  # stable: script order within a kind
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else None)
+    outcomes: dict[str, dict] = {f.name: {} for f in families}
+    manifests: dict[str, dict] = {}
+    try:
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+            pending = {pool.submit(_outcome_in_worker, f.name, f.script, p.name): (f, p) for f, _, p in tasks}
+            for f in families:  # a family without parts is written at once
+                if not f.parts:
+                    manifests[f.name] = build_family(f, out_dir, outcomes={})
+            while pending:
+                done, _ = wait(pending, return_when=FIRST_COMPLETED)
+                for fut in done:
+                    f, p = pending.pop(fut)
+                    try:
+                        outcomes[f.name][p.name] = fut.result()
+                    except BrokenProcessPool as exc:  # a worker killed (out of memory, a signal)
+                        raise ExportError(
+                            f"a build process died while building {f.name}/{p.name} ({exc}); the exports of the "
+                            "families not yet written are unchanged — run the build again, or with --jobs 1"
+                        ) from exc
+                    if progress is not None:
+                        progress(f"{f.name}/{p.name}")
+                    if len(outcomes[f.name]) == len(f.parts):
+                        manifests[f.name] = build_family(f, out_dir, outcomes=outcomes[f.name])
+    finally:
+        _FAMILIES.clear()
+    return [manifests[n] for n in names]
 
 
 def _check_manifest(manifest) -> None:
