@@ -12,7 +12,9 @@ What the paper does not publish, and what we chose (see README):
   gives ``OPTIMUM``), minimising the swing cam's largest pressure angle while keeping both gear
   stages convex;
 * the centre distances of the two non-circular stages (45 mm each) and the split of the
-  two-stage ratio between them (``I^λ``, λ chosen for the largest convexity index);
+  two-stage ratio between them (``I^λ``, λ = ``EXPONENT`` = 0.492225, the largest convexity index:
+  ``chain(*OPTIMUM[:2]).distribute(CENTRE_DISTANCES, exponent=None)`` searches it, and
+  ``tests/test_seed002.py`` checks the search still lands there);
 * the cam follower: an oscillating roller follower (8 mm roller) whose pivot distance, arm and
   base circle are optimised with the curves.
 """
@@ -31,6 +33,8 @@ from transplanter.solids import Features
 CIRCLE_X = 70.0  # mechanism ③
 ARM_LENGTH = 125.0
 CENTRE_DISTANCES = (45.0, 45.0)
+#: the split I^λ of the two-stage ratio with the largest convexity index (both stages 0.642)
+EXPONENT = 0.492225
 ROLLER = 8.0
 #: intermediate points: offsets of β2 and β3 from the straight line between the poses at the
 #: middle of each gap (fractions of the gap's width, rad per rad), and the follower (pivot
@@ -131,7 +135,7 @@ def _toothed(pair):
 
 def family() -> Family:
     ch = chain(OPTIMUM[0], OPTIMUM[1])
-    dist = ch.distribute(CENTRE_DISTANCES, exponent=None)
+    dist = ch.distribute(CENTRE_DISTANCES, exponent=EXPONENT)
     return Family(
         name="potseedling_seed002",
         description="Seed 002 pot-seedling mechanism: four-pose synthesis, non-circular gear stages and swing cam",

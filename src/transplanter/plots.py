@@ -50,6 +50,9 @@ def _render(fig: plt.Figure, fmt: str) -> bytes:
 
 def figure_files(fig: plt.Figure, stem: str) -> dict[str, bytes]:
     """``{stem.png: ..., stem.svg: ...}`` from one figure (built once, saved twice), then closed."""
+    # the figures are laid out once, by tight_layout, which leaves a placeholder layout engine
+    # behind; without this, every savefig would draw the figure twice (once "to lay it out")
+    fig.set_layout_engine(None)
     try:
         return {f"{stem}.{fmt}": _render(fig, fmt) for fmt in ("png", "svg")}
     finally:

@@ -149,8 +149,15 @@ class FourierSeries(_Lobed):
 
     def _eval(self, x, nu):
         k = self.lobes_ * np.arange(1, len(self.a) + 1)
-        kx = np.multiply.outer(x, k)
-        c, s = np.cos(kx), np.sin(kx)
+        if not len(k):
+            return np.full(np.shape(x), self.a0 if nu == 0 else 0.0)
+        # cos(kLx) + i sin(kLx) as powers of one exponential: a cos and a sin per x, not per term
+        z = np.exp(1j * self.lobes_ * np.asarray(x, dtype=float))
+        zk = np.empty((*z.shape, len(k)), dtype=complex)
+        zk[..., 0] = z
+        for j in range(1, len(k)):
+            zk[..., j] = zk[..., j - 1] * z
+        c, s = zk.real, zk.imag
         a, b = np.array(self.a), np.array(self.b)
         if nu == 0:
             return self.a0 + c @ a + s @ b
