@@ -117,7 +117,8 @@ def test_ratio_distribution_closes_and_reproduces_the_arm(chain3):
 
 def test_the_part_script_splits_the_ratio_at_the_searched_exponent(parts_dir):
     """The part script states λ = EXPONENT (the search takes 2 s, at every load of the family):
-    the search over λ must still land on it, to the digits given (the index has a kink there, where the two stages are equally convex)."""
+    the search over λ must still land on it, to the digits given (the index has a kink there,
+    where the two stages are equally convex)."""
     ns = runpy.run_path(str(parts_dir / "potseedling_seed002.py"))
     ch = ns["chain"](*ns["OPTIMUM"][:2])
     best = ch.distribute(ns["CENTRE_DISTANCES"], exponent=None)
