@@ -19,9 +19,9 @@ def poses():
 def test_section_3_3_mechanism_3(poses):
     """x = 70: circle point y = 33.4092, centre point (3.9926, 0.4983) (paper, 4 decimals)."""
     y = min(poses.circle_points_at(70.0), key=lambda v: abs(v - 33.4092))
-    assert y == pytest.approx(33.4092, abs=2e-5)
+    assert y == pytest.approx(33.4092, abs=5e-5)
     cx, cy = poses.centre_point((70.0, y))
-    assert cx == pytest.approx(3.9926, abs=2e-5)
+    assert cx == pytest.approx(3.9926, abs=5e-5)
     assert cy == pytest.approx(0.4983, abs=1.5e-4)  # 0.49839 here; the paper truncates
 
 
