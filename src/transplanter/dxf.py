@@ -35,6 +35,7 @@ True
 
 from __future__ import annotations
 
+import functools
 import io
 import math
 from contextlib import contextmanager
@@ -376,6 +377,13 @@ def _bulge_points(verts, flatten: float) -> np.ndarray:
 
 def _cut_polylines(data: bytes) -> list[np.ndarray]:
     """Bulge vertices (n, 3) of every closed polyline on the CUT layer, as ezdxf reads them."""
+    return [v.copy() for v in _parsed_cut_polylines(data)]
+
+
+@functools.lru_cache(maxsize=8)
+def _parsed_cut_polylines(data: bytes) -> tuple[np.ndarray, ...]:
+    # a part's DXF is read back by its own check, by the meshing check and by the assembly
+    # drawing: parse it once (ezdxf's parser is most of the cost)
     doc = ezdxf.read(io.StringIO(data.decode()))
     out = []
     for e in doc.modelspace().query("LWPOLYLINE POLYLINE[layer=='CUT']"):
@@ -384,7 +392,7 @@ def _cut_polylines(data: bytes) -> list[np.ndarray]:
         else:
             verts = [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices]
         out.append(np.array(verts, dtype=float))
-    return out
+    return tuple(out)
 
 
 def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
