@@ -224,7 +224,15 @@ def build_families(
     to a serial build. ``progress`` gets ``family/part`` as each part finishes.
     """
     if jobs <= 1:
-        return [build_family(f, out_dir, progress) for f in families]
+        manifests = []
+        for f in families:
+            outcomes = {}
+            for p in f.parts:
+                outcomes[p.name] = part_outcome(p, Path(out_dir) / f.name)
+                if progress is not None:
+                    progress(f"{f.name}/{p.name}")
+            manifests.append(build_family(f, out_dir, outcomes=outcomes))
+        return manifests
     import multiprocessing
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
