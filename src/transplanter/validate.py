@@ -12,8 +12,9 @@ the contours re-read from the DXF, or a mid-plane section of the STL — are com
   fouling on entry and exit of an internal mesh, or teeth of a non-circular pair whose ratio
   changes too fast for the teeth beside the pitch point to follow;
 - **transmission error**: the driven gear is turned back from its design angle until its
-  teeth first touch the driver's (root finding on the signed gap — distance, or minus the
-  overlap area^(2/3), ∝ depth — with scipy ``brentq`` to 1e-8 mm, in the window); that angle as arc length at the
+  teeth first touch the driver's — in closed form, the nearest turn at which a vertex of one
+  outline meets an edge of the other (``transplanter.contact``; exact for the polygons, every
+  step at once); that angle as arc length at the
   pitch point (mm) minus its cycle mean (the constant share of the backlash) is the
   geometric transmission error, reported as max and rms; the raw angle is kept
   (``driven_error``) for rebuilding a train from the parts;
