@@ -507,8 +507,10 @@ def wire_violations(
     within the shop's tolerance and not returned — e.g. the 0.6 µm sliver a wire leaves where
     two envelope pieces of a 17-tooth planet's root meet at a kink.
     """
-    grown = section.buffer(offset, quad_segs=64, join_style="round")
-    reachable = grown.buffer(-offset, quad_segs=64, join_style="round")
+    # 16 segments per quarter circle: the round joins are within 0.12 % of the offset (0.2 µm for
+    # a 0.145 mm wire), far below min_thickness, and the closing costs a quarter of 64's
+    grown = section.buffer(offset, quad_segs=16, join_style="round")
+    reachable = grown.buffer(-offset, quad_segs=16, join_style="round")
     left = shapely.difference(reachable, section)
     parts = [g for g in getattr(left, "geoms", [left]) if g.area > min_area and _thickness(g) > min_thickness]
     return shapely.MultiPolygon(parts) if parts else shapely.MultiPolygon()
