@@ -17,6 +17,19 @@ bounds per angular bin that settle most point-in-polygon questions without GEOS
 (:meth:`Outline.inside`).
 
 All lengths mm, angles rad; a "turn" is counter-clockwise.
+
+Examples
+--------
+A vertex at radius 1 on the x axis, turned about the origin, meets the edge y = 0.5 (x from 0
+to 2) after 30 degrees:
+
+>>> import numpy as np
+>>> v = np.array([[1.0, 0.0]])
+>>> x, ok = crossings(v, np.array([[0.0, 0.5]]), np.array([[2.0, 0.5]]))
+>>> ok[:, 0].tolist()  # the circle's other crossing is off the segment
+[False, True]
+>>> round(float(np.degrees(angle_between(v, x[1]))[0]), 9)
+30.0
 """
 
 from __future__ import annotations
