@@ -271,17 +271,22 @@ def _profile_grid(frame, cutter, s_centres, side, shift, tolerance):
     counts = (3, 20, 6, 4, 6, 20, 3)
     tau = np.unique(np.concatenate([np.linspace(k, k + 1, c + 1) for k, c in enumerate(counts)]))
     y, _ = _contact(frame, cutter, tau, s_centres, side, shift)
+    pending = np.ones(len(tau) - 1, dtype=bool)  # intervals whose chord is not yet known to fit
     for _ in range(20):
-        mid = 0.5 * (tau[1:] + tau[:-1])
-        ym, _ = _contact(frame, cutter, mid, s_centres, side, shift)
-        err = _chord_error(y[:, :-1], ym, y[:, 1:]).max(axis=0)
-        bad = err > tolerance
-        if not bad.any():
+        idx = np.flatnonzero(pending)
+        if not idx.size:
             break
-        # insert the (already computed) midpoints where a chord strays
+        mid = 0.5 * (tau[idx] + tau[idx + 1])
+        ym, _ = _contact(frame, cutter, mid, s_centres, side, shift)
+        bad = _chord_error(y[:, idx], ym, y[:, idx + 1]).max(axis=0) > tolerance
+        # insert the (already computed) midpoints where a chord strays; only their halves are
+        # checked again (a chord that fits stays as it is)
         order = np.argsort(np.concatenate([tau, mid[bad]]), kind="stable")
         tau = np.concatenate([tau, mid[bad]])[order]
         y = np.concatenate([y, ym[:, bad]], axis=1)[:, order]
+        new = np.flatnonzero(order >= len(order) - int(bad.sum()))
+        pending = np.zeros(len(tau) - 1, dtype=bool)
+        pending[new - 1] = pending[new] = True
     return tau, y
 
 
