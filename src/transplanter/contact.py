@@ -47,6 +47,7 @@ __all__ = [
     "crossings",
     "angle_between",
     "segment_distance",
+    "distance_to_ring",
     "rotate",
     "wrap",
 ]
@@ -269,3 +270,21 @@ def segment_distance(p: np.ndarray, ps: np.ndarray, pe: np.ndarray) -> np.ndarra
     t = np.clip(_dot(p - ps, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
     q = ps + t[:, None] * d - p
     return np.hypot(q[:, 0], q[:, 1])
+
+
+def distance_to_ring(ring: np.ndarray):
+    """A function giving the distance (n,) of points (n, 2) from the closed polyline ``ring``
+    ((m, 2), the closing repeat optional): an STRtree of its segments, built once and queried
+    as often as needed (GEOS measures a point against a whole ring with no index)."""
+    ring = np.asarray(ring, dtype=float)
+    if len(ring) > 1 and np.array_equal(ring[0], ring[-1]):
+        ring = ring[:-1]
+    tree = shapely.STRtree(shapely.linestrings(np.stack((ring, np.roll(ring, -1, axis=0)), axis=1)))
+
+    def distance(points: np.ndarray) -> np.ndarray:
+        (which, _), near = tree.query_nearest(shapely.points(points), return_distance=True, all_matches=False)
+        out = np.empty(len(points))
+        out[which] = near
+        return out
+
+    return distance

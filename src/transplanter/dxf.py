@@ -46,6 +46,7 @@ import numpy as np
 import shapely
 from ezdxf.math import bulge_to_arc
 
+from transplanter.contact import distance_to_ring
 from transplanter.errors import MAX_MAGNITUDE, ExportError, GeometryError, SpecError, check_number
 from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM, WIRE_EDM_TOLERANCE
 
@@ -465,10 +466,7 @@ def read_section(data: bytes, flatten: float = 5e-5) -> shapely.Polygon:
 
 
 def _one_way(points: np.ndarray, ring: np.ndarray) -> float:
-    segs = shapely.linestrings(np.stack([ring, np.roll(ring, -1, axis=0)], axis=1))
-    tree = shapely.STRtree(segs)
-    _, dist = tree.query_nearest(shapely.points(points), return_distance=True, all_matches=False)
-    return float(dist.max())
+    return float(distance_to_ring(ring)(points).max())
 
 
 def contour_deviation(source: np.ndarray, readback: np.ndarray) -> float:

@@ -553,10 +553,8 @@ def follower_check(contour, motion, follower, n: int = 720) -> FollowerReport:
         raise SpecError.out_of_range("n", n, "an integer >= 8")
     theta = 2 * math.pi * np.arange(n) / n
     law = np.asarray(motion(theta), dtype=float)
-    boundary = contour.exterior
-    shapely.prepare(boundary)
+    pts = shapely.get_coordinates(contour.exterior)
     if isinstance(follower, cams.FlatFacedFollower):
-        pts = shapely.get_coordinates(boundary)
         # support height along the follower's +y, which is (sin θ, cos θ) in the cam frame
         actual = np.max(pts @ np.stack([np.sin(theta), np.cos(theta)]), axis=0) - follower.base_radius
         return FollowerReport(theta, law, actual, actual - law)
@@ -564,15 +562,12 @@ def follower_check(contour, motion, follower, n: int = 720) -> FollowerReport:
         raise SpecError(f"unknown follower type {type(follower).__name__}")
     rr = follower.roller_radius
     span = 0.1 * float(np.ptp(law)) + (1.0 / follower.arm_length if hasattr(follower, "arm_length") else 1.0)
-    xy = shapely.get_coordinates(contour.exterior)
-    tree = shapely.STRtree(shapely.linestrings(np.stack((xy[:-1], xy[1:]), axis=1)))
+    distance = contact.distance_to_ring(pts)
     shapely.prepare(contour)
 
     def gap(s):  # signed distance of the roller centres from the contour, minus the roller radius
         c = cams.roller_centre(follower, s, theta)
-        (which, _), near = tree.query_nearest(shapely.points(c), return_distance=True, all_matches=False)
-        d = np.empty(len(c))
-        d[which] = near
+        d = distance(c)
         return np.where(shapely.contains_xy(contour, c[:, 0], c[:, 1]), -d, d) - rr
 
     lo, hi = law - span, law + span
