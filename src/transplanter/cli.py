@@ -145,26 +145,9 @@ def _fmt_um(mm: float) -> str:
     return f"{mm * 1000:.3g} µm"
 
 
-def _checked(folders: list[Path], script: str | None):
-    """``check_family`` of each folder, in order; several families on one process per core
-    (forked, so nothing is loaded twice), each report yielded as soon as it and those before
-    it are done."""
-    from transplanter.families import check_family
-
-    jobs = min(_default_jobs(), len(folders))
-    if jobs <= 1:
-        yield from (check_family(f, script) for f in folders)
-        return
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    methods = multiprocessing.get_all_start_methods()
-    ctx = multiprocessing.get_context("fork" if "fork" in methods else None)
-    with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-        yield from pool.map(check_family, folders, [script] * len(folders))
-
-
 def _cmd_check(args: argparse.Namespace) -> int:
+    from transplanter.families import check_families
+
     folders = []
     for folder in map(Path, args.folders or ["exports"]):
         if folder.is_dir() and not (folder / "manifest.json").exists():  # a folder of families
@@ -180,7 +163,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
         else:
             folders.append(folder)
     ok = True
-    for folder, rep in zip(folders, _checked(folders, args.script), strict=True):
+    reports = check_families(folders, args.script, jobs=_default_jobs())
+    for folder, rep in zip(folders, reports, strict=True):
         design = f", design from {rep['script']}" if rep["script"] else ""
         print(f"{rep['family']}  ({folder}{design})")
         if rep["script_changed"]:

@@ -22,7 +22,16 @@ from transplanter.families.synthesis import SynthesisStudy
 from transplanter.families.trains import PlanetaryStudy
 from transplanter.report import family_report
 
-__all__ = ["Family", "load_family", "discover", "part_outcome", "build_family", "build_families", "check_family"]
+__all__ = [
+    "Family",
+    "load_family",
+    "discover",
+    "part_outcome",
+    "build_family",
+    "build_families",
+    "check_family",
+    "check_families",
+]
 
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
@@ -168,9 +177,9 @@ def build_family(
         old = _previous_manifest(root)
         for part in family.parts:
             if outcomes is None:
+                outcome = part_outcome(part, root)
                 if progress is not None:
                     progress(f"{family.name}/{part.name}")
-                outcome = part_outcome(part, root)
             else:
                 outcome = outcomes[part.name]
             if not isinstance(outcome, str):
@@ -202,6 +211,16 @@ _FAMILIES: dict[str, Family] = {}
 _COST = {ToothedPairStudy: 10, PlanetaryStudy: 6, CamStudy: 5, PitchPairStudy: 2, SynthesisStudy: 2}
 
 
+def _pool(jobs: int):
+    """A pool of ``jobs`` worker processes, forked where the platform can (the workers then
+    start with everything this process has imported and loaded)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else None)
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
+
+
 def _outcome_in_worker(family: str, script: str | None, part: str):
     fam = _FAMILIES.get(family)
     if fam is None:  # a worker that was not forked from the builder: load the script itself
@@ -224,17 +243,8 @@ def build_families(
     to a serial build. ``progress`` gets ``family/part`` as each part finishes.
     """
     if jobs <= 1:
-        manifests = []
-        for f in families:
-            outcomes = {}
-            for p in f.parts:
-                outcomes[p.name] = part_outcome(p, Path(out_dir) / f.name)
-                if progress is not None:
-                    progress(f"{f.name}/{p.name}")
-            manifests.append(build_family(f, out_dir, outcomes=outcomes))
-        return manifests
-    import multiprocessing
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+        return [build_family(f, out_dir, progress) for f in families]
+    from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
 
     names = [f.name for f in families]
@@ -242,15 +252,13 @@ def build_families(
         raise PartScriptError(f"two part scripts define the same family name: {sorted(names)}")
     _FAMILIES.clear()
     _FAMILIES.update((f.name, f) for f in families)
-    tasks = [(f, i, p) for f in families for i, p in enumerate(f.parts)]
-    tasks.sort(key=lambda t: -_COST.get(type(t[2]), 1))  # stable: script order within a kind
-    methods = multiprocessing.get_all_start_methods()
-    ctx = multiprocessing.get_context("fork" if "fork" in methods else None)
+    tasks = [(f, p) for f in families for p in f.parts]
+    tasks.sort(key=lambda t: -_COST.get(type(t[1]), 1))  # stable: script order within a kind
     outcomes: dict[str, dict] = {f.name: {} for f in families}
     manifests: dict[str, dict] = {}
     try:
-        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
-            pending = {pool.submit(_outcome_in_worker, f.name, f.script, p.name): (f, p) for f, _, p in tasks}
+        with _pool(jobs) as pool:
+            pending = {pool.submit(_outcome_in_worker, f.name, f.script, p.name): (f, p) for f, p in tasks}
             for f in families:  # a family without parts is written at once
                 if not f.parts:
                     manifests[f.name] = build_family(f, out_dir, outcomes={})
@@ -385,3 +393,14 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
         out["ok"] = out["ok"] and (expected or not problems)
     out["ok"] = out["ok"] and not out["files"]
     return out
+
+
+def check_families(folders: list[Path], script: str | Path | None = None, jobs: int = 1):
+    """:func:`check_family` of each folder, in order, on up to ``jobs`` processes; each report
+    is yielded as soon as it and those before it are done."""
+    jobs = min(jobs, len(folders))
+    if jobs <= 1:
+        yield from (check_family(f, script) for f in folders)
+        return
+    with _pool(jobs) as pool:
+        yield from pool.map(check_family, folders, [script] * len(folders))
