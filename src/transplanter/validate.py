@@ -367,7 +367,7 @@ class _Mesh:
         mid = np.where(d >= 0, 0.0, math.pi)
         s2, j2 = drn.gather([(mid - hw, mid + hw)], psi2)
         q2 = drn.placed(j2, psi2, c, s2)
-        keep = (np.abs(q2[:, 0] - px[s2]) <= g2[s2]) & (np.abs(q2[:, 1]) <= g2[s2])
+        keep = self._in_box(q2, px[s2], (reach + drn.longest)[s2])
         s2, j2, q2 = s2[keep], j2[keep], q2[keep] - (c, 0.0)
         e2 = drn.placed(drn.next[j2], psi2, at=s2)
 
