@@ -42,13 +42,27 @@ import numpy as np
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.errors import check_number, finite_positive
 
-__all__ = ["Site", "Objective", "gearbox_radius", "seed004_objectives", "ARM_CLEARANCE_MM"]
+__all__ = [
+    "Site",
+    "Objective",
+    "gearbox_radius",
+    "seed004_objectives",
+    "ARM_CLEARANCE_MM",
+    "ANGLE_DIFFERENCE_DEG",
+    "HOLE_WIDTH_MAX_MM",
+    "GEARBOX_CLEARANCE_MM",
+    "MIN_MODULE_MM",
+]
 
 ARM_CLEARANCE_MM = 10.0
 BOX_CLEARANCE_MM = 5.0
 PICK_DEPTH_MM = (10.0, 25.0)
 PICK_SPREAD_MM = 15.0
 SEEDLING_HEIGHT_MM = 100.0
+ANGLE_DIFFERENCE_DEG = (45.0, 65.0)
+HOLE_WIDTH_MAX_MM = 30.0
+GEARBOX_CLEARANCE_MM = 20.0
+MIN_MODULE_MM = 2.5
 HOUSING_WALL_MM = 5.0
 #: ring dedendum and rim below its pitch curve, modules (``ShaperCutter`` addendum 1.25 m and
 #: the 3 m rim ``teeth.generate`` leaves under the deepest root)
@@ -148,13 +162,13 @@ def seed004_objectives(
         ),
         Objective("iii", "picking angle", m.picking_angle, 320.0, 350.0, "deg"),
         Objective("iv", "pushing angle", m.pushing_angle, 270.0, 310.0, "deg"),
-        Objective("v", "angle difference", m.angle_difference, 45.0, 65.0, "deg"),
+        Objective("v", "angle difference", m.angle_difference, *ANGLE_DIFFERENCE_DEG, "deg"),
         Objective("vi", "picking depth into the box", float(depth[k]), *PICK_DEPTH_MM, "mm"),
         Objective("vi", "picking point to the box point", m.picking_box_distance, -inf, PICK_SPREAD_MM, "mm"),
         Objective("vii", "one soil entry, needle down at the push (1 = yes)", push_down, 1.0, 1.0, ""),
         Objective("viii", "tip back over the plant after leaving the soil", over, -inf, 0.0, "mm"),
-        Objective("ix", "hole width", m.hole_width, -inf, 30.0, "mm"),
-        Objective("x", "gearbox clearance above the ground", m.gearbox_clearance, 20.0, inf, "mm"),
-        Objective("xi", "module", module, 2.5, inf, "mm"),
+        Objective("ix", "hole width", m.hole_width, -inf, HOLE_WIDTH_MAX_MM, "mm"),
+        Objective("x", "gearbox clearance above the ground", m.gearbox_clearance, GEARBOX_CLEARANCE_MM, inf, "mm"),
+        Objective("xi", "module", module, MIN_MODULE_MM, inf, "mm"),
         Objective("xii", "needle to box slope at entry", entry_angle, -inf, 90.0, "deg"),
     )

@@ -19,6 +19,12 @@ import numpy as np  # noqa: E402
 import shapely  # noqa: E402
 
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics  # noqa: E402
+from transplanter.objectives import (  # noqa: E402
+    ANGLE_DIFFERENCE_DEG,
+    GEARBOX_CLEARANCE_MM,
+    HOLE_WIDTH_MAX_MM,
+    MIN_MODULE_MM,
+)
 
 __all__ = [
     "figure_files",
@@ -385,9 +391,9 @@ def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
     module = np.array([r["module_mm"] for r in rows])
     chosen = [r["chosen"] for r in rows]
     for ax, key, unit, band, what in (
-        (axes[0], "angle_difference_deg", "deg", (45.0, 65.0), "picking - pushing angle"),
-        (axes[1], "hole_width_mm", "mm", (0.0, 30.0), "hole width"),
-        (axes[2], "gearbox_clearance_mm", "mm", (20.0, None), "gearbox clearance above the ground"),
+        (axes[0], "angle_difference_deg", "deg", ANGLE_DIFFERENCE_DEG, "picking - pushing angle"),
+        (axes[1], "hole_width_mm", "mm", (0.0, HOLE_WIDTH_MAX_MM), "hole width"),
+        (axes[2], "gearbox_clearance_mm", "mm", (GEARBOX_CLEARANCE_MM, None), "gearbox clearance above the ground"),
     ):
         x = np.array([r[key] for r in rows])
         order = np.argsort(x)
@@ -398,7 +404,7 @@ def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
         ax.axvspan(lo, hi if hi is not None else max(x.max(), lo) * 1.05, color="C2", alpha=0.12, label="objective")
         ax.set_xlabel(f"{what} ({unit})")
         ax.grid(alpha=0.3)
-    axes[0].axhline(2.5, color="C3", ls="--", lw=1, label="module objective xi (2.5 mm)")
+    axes[0].axhline(MIN_MODULE_MM, color="C3", ls="--", lw=1, label=f"module objective xi ({MIN_MODULE_MM:g} mm)")
     axes[0].set_ylabel("largest meshing module (mm)")
     axes[0].legend(fontsize=7, loc="best")
     fig.suptitle(f"{title}: largest module that meshes and can be cut, ratio variation scaled", fontsize=9)
