@@ -31,13 +31,7 @@ def mesh_check_reference(
     contact_tol: float = 2e-3,
     teeth: int | None = None,
 ) -> MeshReport:
-    """Mesh ``driver_polygon`` and ``driven_polygon`` (body frames) per ``pair``'s design ratio.
-
-    ``window`` (modules) is the half-size of the square around the pitch point where the
-    contact is searched (the path of contact reaches ~2.5 modules either side);
-    ``contact_tol`` (mm) the gap that counts as contact; ``teeth`` the driver's tooth count
-    (``steps`` is raised until coprime with it).
-    """
+    """``validate.mesh_check`` as it was: the same arguments, the same report."""
     if not isinstance(steps, int) or steps < 4:
         raise SpecError.out_of_range("steps", steps, "an integer >= 4")
     driver_polygon = _polygon("driver_polygon", driver_polygon)
