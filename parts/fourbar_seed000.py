@@ -8,17 +8,27 @@ machine advances at 60 cm/s; the planting depth is 4 cm.
 The paper does not say which way each crank turns nor which assembly it uses; its own
 Table 2 settles both: assembly branch +1 for all three, A counter-clockwise ("backward
 relative to the wheels") and B and C clockwise (B "in the same direction as the wheels").
+
+The paper gives no parts; the plates are our stated choice: 6 mm steel plate, ISO 2338 Ø8 pins
+at B, C and O4 in 8.05 mm holes (a running fit), a Ø12 drive shaft keyed to the crank
+(DIN 6885-1 key 4 × 4) running in the frame plate, bosses of twice and more the hole, and
+a finger nose of radius 5 mm centred on the fork apex.
 """
 
 import math
 
-from transplanter.families import ArmStudy, Family
+from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy
 from transplanter.linkage.dh import DHFourBar
 from transplanter.linkage.planting import PlantingArm
 
 CRANK_SPEED = 8 * math.pi  # rad/s, 240 rpm
 FORWARD_SPEED = 600.0  # mm/s
 PLANTING_DEPTH = 40.0  # mm
+
+PIN = Joint("ISO 2338 pin 8 m6, running fit", hole=8.05, boss=20.0)  # mm
+SHAFT = Joint("drive shaft 12 h7, DIN 6885-1 key 4x4", hole=12.05, boss=28.0)  # mm
+PLATE = 6.0  # mm
+NOSE = 5.0  # mm, finger tip radius
 
 # name: (a1, a2, a3, a4, X3P, Y3P [mm], phi [deg], sense of crank rotation)
 TABLE_1 = {
@@ -37,6 +47,9 @@ def arm(name: str) -> PlantingArm:
 def family() -> Family:
     return Family(
         name="fourbar_seed000",
-        description="Seed 000 crank-rocker planting mechanisms A, B, C (Table 1) with Table 2 metrics",
-        parts=tuple(ArmStudy(arm(name), PLANTING_DEPTH) for name in TABLE_1),
+        description="Seed 000 crank-rocker planting mechanisms A, B, C (Table 1): Table 2 metrics and link plates",
+        parts=(
+            *(ArmStudy(arm(name), PLANTING_DEPTH) for name in TABLE_1),
+            *(LinkPlatesStudy(f"{name}_plates", arm(name), PIN, SHAFT, PLATE, NOSE) for name in TABLE_1),
+        ),
     )

@@ -10,11 +10,15 @@ The finger is taken on the coupler line 25.3 cm beyond the rocker pin (20 + 25.3
 crank pin). The paper's velocity and acceleration figures (280.32 cm/s, 3866.5 cm/s^2) do
 not follow from these dimensions under any reading of the finger position (see README).
 The planting depth is not given; 40 mm is assumed.
+
+The plates are our stated choice: 8 mm steel plate, ISO 2338 Ø10 pins at B, C and O4 in
+10.05 mm holes (a running fit), a Ø20 drive shaft keyed to the crank (DIN 6885-1 key 6 × 6),
+a finger nose of radius 6 mm at the finger position.
 """
 
 import math
 
-from transplanter.families import ArmStudy, Family
+from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy
 from transplanter.linkage.fourbar import FourBar
 from transplanter.linkage.planting import PlantingArm
 
@@ -23,11 +27,19 @@ CRANK_SPEED = 2 * math.pi * 125 / 60  # rad/s
 FORWARD_SPEED = 1500.0 / 3.6  # mm/s (1.5 km/h)
 FINGER = (200.0 + 253.0, 0.0)  # mm in the coupler frame
 
+PIN = Joint("ISO 2338 pin 10 m6, running fit", hole=10.05, boss=24.0)  # mm
+SHAFT = Joint("drive shaft 20 h7, DIN 6885-1 key 6x6", hole=20.05, boss=40.0)  # mm
+PLATE = 8.0  # mm
+NOSE = 6.0  # mm, finger tip radius
+
 
 def family() -> Family:
     arm = PlantingArm(LINKAGE, FINGER, CRANK_SPEED, FORWARD_SPEED, name="eight_row_arm")
     return Family(
         name="fourbar_seed001",
-        description="Seed 001 four-bar of an 8-row power-tiller transplanter (Table 1)",
-        parts=(ArmStudy(arm, planting_depth=40.0),),
+        description="Seed 001 four-bar of an 8-row power-tiller transplanter (Table 1) and its link plates",
+        parts=(
+            ArmStudy(arm, planting_depth=40.0),
+            LinkPlatesStudy("eight_row_arm_plates", arm, PIN, SHAFT, PLATE, NOSE),
+        ),
     )

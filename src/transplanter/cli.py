@@ -189,8 +189,15 @@ def _cmd_check(args: argparse.Namespace) -> int:
                     )
                     if "train" in r:
                         line += f", train tip deviation {_fmt_um(r['train']['max_tip_deviation_mm'])}"
-                else:
+                elif "max_error_mm" in r:
                     line = f"follower error max {_fmt_um(r['max_error_mm'])} rms {_fmt_um(r['rms_error_mm'])}"
+                elif "max_deviation_mm" in r:
+                    dev = _fmt_um(r["max_deviation_mm"])
+                    line = f"tip path of the four-bar rebuilt from the plates: max deviation {dev}"
+                else:  # the made files re-read: STEP solids, 3MF assemblies
+                    for fname, f in sorted(r.items()):
+                        print(f"  {name} [{fname}]: {_made_line(f)}")
+                    continue
                 print(f"  {name} [{source}]: {line}")
             tag = "finding (expected)" if part["expected"] else "PROBLEM"
             for p in part["problems"]:
@@ -198,6 +205,18 @@ def _cmd_check(args: argparse.Namespace) -> int:
         print(f"  {'ok' if rep['ok'] else 'FAILED'}")
         ok = ok and rep["ok"]
     return 0 if ok else 1
+
+
+def _made_line(r: dict) -> str:
+    """One re-read shop file's figures (``formats``), in words."""
+    if "error" in r:
+        return "cannot be checked (see below)"
+    if "bodies" in r:
+        return f"{r['bodies']} bodies, largest overlap {r['max_overlap_mm3']:.3g} mm³"
+    return (
+        f"{r['solids']} solid, {r['faces']} faces, {'valid' if r['valid'] else 'INVALID'}, "
+        f"volume off by {r['volume_rel_error']:.3g} (relative)"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -13,7 +13,7 @@ than points, no gaps (each arc ends on the next one's start vertex), no segment 
 **Files.** One DXF per part: ``$INSUNITS`` = 4 (mm; ezdxf defaults to metres — and R12 has no
 units header, so the annotation says mm); layers ``CUT`` (all contours), ``START_HOLES`` (a
 start hole inside every inner contour, in the waste), ``ANNOTATION`` (part name, tooth count,
-module); ezdxf's fixed metadata so rebuilding gives identical bytes.
+module, marks, paths such as a finger's tip path); ezdxf's fixed metadata so rebuilding gives identical bytes.
 
 **Read-back.** :func:`read_contours` re-reads the CUT layer and flattens the arcs
 (:func:`read_section` nests them into the part section);
@@ -39,7 +39,7 @@ import functools
 import io
 import math
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import ezdxf
 import numpy as np
@@ -59,6 +59,7 @@ __all__ = [
     "read_contours",
     "assembly_bytes",
     "section_arcs",
+    "bulge_contours",
     "read_section",
     "contour_deviation",
     "wire_path",
@@ -234,6 +235,8 @@ class DxfPart:
     #: wire-centre compensation (wire radius + spark gap, mm); None writes the nominal contour
     #: and leaves the offset to the CAM
     wire_offset: float | None = None
+    #: ANNOTATION paths: open polylines (n, 2), mm (a planting finger's tip path)
+    paths: tuple[np.ndarray, ...] = field(default=(), compare=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
@@ -344,6 +347,12 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_
                 msp.add_circle(centre, part.start_hole / 2, dxfattribs={"layer": "START_HOLES"})
         minx, miny, maxx, maxy = section.bounds
         height = max(2.0, 0.02 * (maxy - miny))
+        for path in part.paths:
+            pts = np.asarray(path, dtype=float)[:, :2].tolist()
+            if version == "R12":
+                msp.add_polyline2d(pts, dxfattribs={"layer": "ANNOTATION"})
+            else:
+                msp.add_lwpolyline(pts, format="xy", dxfattribs={"layer": "ANNOTATION"})
         for x, y, text in part.marks:
             _cross(msp, x, y, 0.4 * height, "ANNOTATION")
             msp.add_text(text, dxfattribs={"layer": "ANNOTATION", "height": 0.5 * height}).set_placement(
@@ -394,6 +403,16 @@ def _parsed_cut_polylines(data: bytes) -> tuple[np.ndarray, ...]:
             verts = [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices]
         out.append(np.array(verts, dtype=float))
     return tuple(out)
+
+
+def bulge_contours(data: bytes) -> list[tuple[np.ndarray, bool]]:
+    """The CUT contours as read, bulge vertices ``(n, 3)`` each, the largest first and the others
+    marked as holes: ``[(verts, is_hole)]``, the form ``section_arcs`` gives."""
+    polys = _cut_polylines(data)
+    if not polys:
+        raise ExportError("the DXF has no closed contour on its CUT layer")
+    order = sorted(range(len(polys)), key=lambda k: -abs(shapely.Polygon(polys[k][:, :2]).area))
+    return [(polys[k], i > 0) for i, k in enumerate(order)]
 
 
 def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:

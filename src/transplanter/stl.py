@@ -27,10 +27,11 @@ import trimesh
 
 from transplanter.errors import GeometryError
 
-__all__ = ["stl_bytes", "MeshReport", "mesh_report", "section"]
+__all__ = ["canonical_mesh", "stl_bytes", "MeshReport", "mesh_report", "section"]
 
 
-def _trimesh(solid) -> trimesh.Trimesh:
+def canonical_mesh(solid) -> trimesh.Trimesh:
+    """The trimesh of a manifold3d solid in canonical order (see the module docstring)."""
     mesh = solid.to_mesh()
     verts = np.asarray(mesh.vert_properties)[:, :3].astype(float)
     faces = np.asarray(mesh.tri_verts).astype(np.int64)
@@ -49,7 +50,7 @@ def _trimesh(solid) -> trimesh.Trimesh:
 
 def stl_bytes(solid) -> bytes:
     """Binary STL of a manifold3d solid, in canonical order."""
-    tm = _trimesh(solid)
+    tm = canonical_mesh(solid)
     if len(tm.faces) == 0:
         raise GeometryError("cannot write an STL of an empty solid")
     return trimesh.exchange.stl.export_stl(tm)

@@ -18,6 +18,7 @@ __all__ = [
     "DXF_READBACK_MM",
     "SHOP_OVERLAP_MM2",
     "MESH_REFERENCE_MM",
+    "SOLID_VOLUME_REL",
 ]
 
 #: A four-bar loop solved in closed form closes to round-off: links of up to a few
@@ -77,3 +78,8 @@ SHOP_OVERLAP_MM2 = 1e-9
 #: exact for the polygons, the old one stopped its ``brentq`` at 1e-8 mm, so they differ by at
 #: most about that (measured up to 9.3e-9 mm); 2e-8 mm is a sharp bound.
 MESH_REFERENCE_MM = 2e-8
+
+#: A made solid (STL mesh, STEP solid, 3MF body) must enclose its section's area × width within
+#: this, relative: the STL's float32 vertices move a 100 mm part's surface by ~4e-6 mm, which
+#: changes its volume by ~1e-7 relative; the STEP solid is exact to ~1e-12.
+SOLID_VOLUME_REL = 1e-6

@@ -18,6 +18,7 @@ from transplanter.families.cams import CamStudy
 from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
 from transplanter.families.pitch import PitchPairStudy
+from transplanter.families.plates import LinkPlatesStudy
 from transplanter.families.synthesis import SynthesisStudy
 from transplanter.families.trains import PlanetaryStudy
 from transplanter.report import family_report
@@ -43,7 +44,16 @@ def _check_name(kind: str, name: str) -> str:
     return name
 
 
-Part = ArmStudy | BalancingStudy | PitchPairStudy | PlanetaryStudy | ToothedPairStudy | SynthesisStudy | CamStudy
+Part = (
+    ArmStudy
+    | BalancingStudy
+    | LinkPlatesStudy
+    | PitchPairStudy
+    | PlanetaryStudy
+    | ToothedPairStudy
+    | SynthesisStudy
+    | CamStudy
+)
 
 
 @dataclass(frozen=True)
@@ -63,8 +73,9 @@ class Family:
         for p in self.parts:
             if not isinstance(p, Part):
                 raise PartScriptError(
-                    f"family {self.name!r}: parts must be one of ArmStudy, BalancingStudy, PitchPairStudy, "
-                    f"PlanetaryStudy, ToothedPairStudy, SynthesisStudy, CamStudy; got {type(p).__name__}"
+                    f"family {self.name!r}: parts must be one of ArmStudy, BalancingStudy, LinkPlatesStudy, "
+                    "PitchPairStudy, PlanetaryStudy, ToothedPairStudy, SynthesisStudy, CamStudy; "
+                    f"got {type(p).__name__}"
                 )
             _check_name("part", p.name)
             if p.name in seen:
@@ -208,7 +219,7 @@ def build_family(
 _FAMILIES: dict[str, Family] = {}
 
 #: rough relative cost of a part by kind, to hand out the longest parts first
-_COST = {ToothedPairStudy: 10, PlanetaryStudy: 6, CamStudy: 5, PitchPairStudy: 2, SynthesisStudy: 2}
+_COST = {ToothedPairStudy: 10, PlanetaryStudy: 6, CamStudy: 5, LinkPlatesStudy: 3, PitchPairStudy: 2, SynthesisStudy: 2}
 
 
 def _pool(jobs: int):

@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from transplanter import dxf, plots, stl, validate
+from transplanter import formats, plots, validate
 from transplanter.cams import disc_cam
 from transplanter.errors import ExportError, GeometryError
-from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
-from transplanter.families.making import Making, manufacture, read_shop_file, split_unreadable
+from transplanter.export import json_bytes, rounded
+from transplanter.families.making import Making, check_shop_files, manufacture
 from transplanter.pitch import Periodic
 
 __all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
@@ -45,20 +45,12 @@ class CamStudy:
     def following(self, files: dict[str, bytes], sources=("profile", "dxf", "stl")) -> dict:
         """Run the follower on the cam as found in ``files`` for each source present;
         returns ``{source: validate.FollowerReport}``."""
-        readers = {
-            "profile": (
-                f"{self.name}.profile.csv",
-                lambda d: shapely.Polygon(csv_array(d)[:, 1:]),
-            ),
-            "dxf": (f"{self.name}.cam.dxf", dxf.read_section),
-            "stl": (f"{self.name}.cam.stl", stl.section),
-        }
         out = {}
         for source in sources:
-            fname, read = readers[source]
+            fname = f"{self.name}.{source}.csv" if source == "profile" else f"{self.name}.cam.{source}"
             if fname in files:
                 try:
-                    contour = read_shop_file(fname, files[fname], read)
+                    contour = formats.section_of(fname, files[fname])
                 except ExportError as exc:
                     out[source] = str(exc)
                     continue
@@ -66,7 +58,7 @@ class CamStudy:
         return out
 
     def following_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
-        readable, unreadable, problems = split_unreadable(reports)
+        readable, unreadable, problems = formats.split_unreadable(reports)
         results: dict = {"tolerance_mm": FOLLOWER_TOL, **unreadable}
         for source, rep in sorted(readable.items()):
             results[source] = rep.summary()
@@ -82,6 +74,9 @@ class CamStudy:
     def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
         """Re-run the follower check on this part's files as found on disk."""
         results, _, problems = self.following_results(self.following(files))
+        if self.making is not None:  # the STEP against the DXF as found
+            results["made"], more = check_shop_files(files, {f"{self.name}.cam": self.making.width})
+            problems += more
         return results, problems
 
     def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
@@ -104,10 +99,7 @@ class CamStudy:
             ],
             "follower_stroke": rounded(float(np.ptp(cam.follower_position(cam.theta)))),
         }
-        rows = [
-            [f"{t:.6f}", f"{x:.9f}", f"{y:.9f}"] for t, (x, y) in zip(np.degrees(cam.theta), cam.profile, strict=True)
-        ]
-        files = {f"{self.name}.profile.csv": csv_bytes(["cam_angle_deg", "x_mm", "y_mm"], rows)}
+        files = {f"{self.name}.profile.csv": formats.CSV.write(cam.profile, {"cam_angle_deg": np.degrees(cam.theta)})}
         files.update(plots.figure_files(plots.cam_figure(cam, self.name), f"{self.name}.cam"))
         if self.making is not None:
             blank = shapely.Polygon(cam.profile)
@@ -115,7 +107,7 @@ class CamStudy:
                 f"max pressure angle {math.degrees(cam.max_pressure_angle):.2f} deg",
                 f"width {self.making.width:g} mm",
             )
-            res, made = manufacture(
+            res, made, _ = manufacture(
                 f"{self.name}.cam",
                 blank,
                 shapely.Polygon(),

@@ -11,17 +11,18 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from transplanter import dxf, plots, solids, stl, validate
+from transplanter import dxf, formats, plots, solids, validate
 from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
-from transplanter.families.making import Making, manufacture, read_shop_file, split_unreadable
+from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
 from transplanter.interference import pair_limits
 from transplanter.objectives import Site, seed004_objectives
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
 from transplanter.teeth import CHORD_TOLERANCE, ToothedGear, generate_pair, per_gear
+from transplanter.threemf import placement
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
 __all__ = ["MESH_STEPS", "ToothedPairStudy"]
@@ -63,16 +64,6 @@ def _timing_mark(gear: ToothedGear, features: solids.Features) -> tuple[float, f
         if mark.intersects(shapely.Point(hx, hy).buffer(hd / 2)):
             raise GeometryError(f"the timing mark at ({x:.2f}, 0) mm meets the hole at ({hx:g}, {hy:g}) mm")
     return float(x), 0.0, float(d)
-
-
-def _outline_polygon(data: bytes, internal: bool) -> shapely.Polygon:
-    """Gear material from an outline CSV: inside it, or for a ring outside it (to a rim 5 mm
-    beyond its farthest point — only the teeth matter for meshing)."""
-    xy = csv_array(data)
-    if not internal:
-        return shapely.Polygon(xy)
-    rim = float(np.linalg.norm(xy, axis=1).max()) + 5.0
-    return shapely.Polygon(solids.circle_polygon(0.0, 0.0, rim).exterior.coords, [xy])
 
 
 @dataclass(frozen=True)
@@ -162,20 +153,17 @@ class ToothedPairStudy:
         """Mesh the pair as found in ``files`` (this study's file names → bytes) for each source
         present; returns ``{source: validate.MeshReport}``, or the reason where a file cannot be read."""
         pair, sizing = self._sized()
-        internal = self._internal
-        readers = {
-            "outline": (".outline.csv", lambda data, i: _outline_polygon(data, internal[i])),
-            "dxf": (".dxf", lambda data, i: dxf.read_section(data)),
-            "stl": (".stl", lambda data, i: stl.section(data)),
-        }
         out = {}
         for source in sources:
-            suffix, read = readers[source]
-            names = [f"{self.name}.{role}{suffix}" for role in ("driver", "driven")]
+            names = [
+                f"{self.name}.{role}.{source}{'.csv' if source == 'outline' else ''}" for role in ("driver", "driven")
+            ]
             if not all(n in files for n in names):
                 continue
             try:
-                polys = [read_shop_file(n, files[n], lambda d, i=i, rd=read: rd(d, i)) for i, n in enumerate(names)]
+                polys = [
+                    formats.section_of(n, files[n], internal) for n, internal in zip(names, self._internal, strict=True)
+                ]
             except ExportError as exc:
                 out[source] = str(exc)
                 continue
@@ -225,6 +213,25 @@ class ToothedPairStudy:
             "drawing": f"{self.name}.assembly.dxf",
         } | self._planets()
 
+    def _placed(self, a: dict, parts: dict) -> list:
+        """The made gears where they sit at the start, from the assembly data a shop gets: the
+        driven gear at its centre and start angle, or each planet on its carrier line."""
+        if self.train is None:
+            x, y = a["driven_centre_mm"]
+            driven = [
+                (a["driven"], parts["driven"], placement(x, y, 0.0, math.radians(a["driven_angle_at_start_deg"])))
+            ]
+        else:
+            r = a["centre_distance_mm"]
+            driven = []
+            for k, (carrier, body) in enumerate(
+                zip(a["planet_carrier_angles_deg"], a["planet_body_angle_to_carrier_line_deg"], strict=True)
+            ):
+                c = math.radians(carrier)
+                at = placement(r * math.cos(c), r * math.sin(c), 0.0, c + math.radians(body))
+                driven.append((f"{a['driven']}.{k + 1}", parts["driven"], at))
+        return [(a["driver"], parts["driver"], placement()), *driven]
+
     def _planets(self) -> dict:
         """With a train: how many planets to make, and where they sit on the carrier."""
         if self.train is None:
@@ -234,7 +241,10 @@ class ToothedPairStudy:
         contact = self.train.pair.driven_contact_angle(offsets)  # on each planet, at the start
         return {
             "planets": n,
-            "planet_carrier_angles_deg": [rounded(math.degrees(-o) % 360.0) for o in offsets],
+            # counter-clockwise in the ring's DXF frame: planet k's contact with the ring lies on its
+            # carrier line, where the ring meets it at the start (arm k+1 is where arm k will be
+            # after a further 360/N deg of clockwise carrier turn)
+            "planet_carrier_angles_deg": [rounded(math.degrees(o) % 360.0) for o in offsets],
             # the planet's DXF +x from its carrier line (centre of the ring -> planet centre), turning
             # counter-clockwise: its pitch point at polar angle `contact` then meets the ring
             "planet_body_angle_to_carrier_line_deg": [rounded(math.degrees(-c) % 360.0) for c in contact],
@@ -307,7 +317,7 @@ class ToothedPairStudy:
             "tolerance_mm": self.tolerance,
             "steps": self.mesh_steps,
         }
-        readable, unreadable, problems = split_unreadable(reports)
+        readable, unreadable, problems = formats.split_unreadable(reports)
         results.update(unreadable)
         trains = {}
         for source, rep in sorted(readable.items()):
@@ -403,8 +413,7 @@ class ToothedPairStudy:
                 "undercut_mm": rounded(gear.undercut),
                 "min_tip_land_mm": rounded(float(gear.tip_lands.min())),
             }
-            rows = [[f"{x:.9f}", f"{y:.9f}"] for x, y in gear.toothed_contour]
-            files[f"{self.name}.{role}.outline.csv"] = csv_bytes(["x_mm", "y_mm"], rows)
+            files[f"{self.name}.{role}.outline.csv"] = formats.CSV.write(gear.toothed_contour)
         reports = self.meshing(files, ("outline",))
         problems = self._problems(reports["outline"])
         if problems and self.must_mesh:
@@ -412,7 +421,7 @@ class ToothedPairStudy:
         if problems:
             results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
         elif self.making is not None:
-            marks = {}
+            marks, parts = {}, {}
             for k, (role, gear) in enumerate(zip(("driver", "driven"), gears, strict=True)):
                 making = self.making[k]
                 mark = _timing_mark(gear, making.features)
@@ -423,7 +432,7 @@ class ToothedPairStudy:
                     if gear.internal
                     else dataclasses.replace(making.features, holes=(*making.features.holes, mark)),
                 )
-                res, made = manufacture(
+                res, made, part = manufacture(
                     f"{self.name}.{role}",
                     gear.blank,
                     gear.cut,
@@ -434,9 +443,12 @@ class ToothedPairStudy:
                 )
                 res["timing_mark_mm"] = {"x": rounded(mark[0], 6), "y": 0.0, "diameter": rounded(mark[2], 6)}
                 results[role]["made"] = res
+                parts[role] = part
                 files.update(made)
             reports.update(self.meshing(files, ("dxf", "stl")))
             results["assembly"] = self._assembly(pair, sizing, marks, reports["dxf"])
+            results["assembly"]["model"], model = assembly_file(self.name, self._placed(results["assembly"], parts))
+            files.update(model)
             files[f"{self.name}.motion.csv"] = self._motion_csv(pair)
             a = results["assembly"]
             files[f"{self.name}.assembly.dxf"] = dxf.assembly_bytes(
@@ -526,4 +538,18 @@ class ToothedPairStudy:
         """Re-run the meshing checks on this part's files as found on disk (and say so when a
         DXF is the design turned about its axis)."""
         results, _, problems = self.meshing_results(self.meshing(files))
-        return results, self._turned(files) + problems
+        made, more = self._check_made(files)
+        results["made"] = made
+        return results, self._turned(files) + problems + more
+
+    def _check_made(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+        """Each gear's STEP against its DXF, and the 3MF assembly, re-read from the files."""
+        if self.making is None:
+            return {}, []
+        widths = {f"{self.name}.{role}": m.width for role, m in zip(("driver", "driven"), self.making, strict=True)}
+        bodies = [f"{self.name}.driver"]
+        if self.train is None:
+            bodies.append(f"{self.name}.driven")
+        else:
+            bodies += [f"{self.name}.driven.{k + 1}" for k in range(self.train.planets)]
+        return check_shop_files(files, widths, (f"{self.name}.assembly.3mf", bodies))

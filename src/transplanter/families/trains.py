@@ -184,7 +184,7 @@ class PlanetaryStudy:
             "the first on +x carries arm I",
             f"width {making.width:g} mm",
         )
-        res, files = manufacture(
+        res, files, _ = manufacture(
             stem,
             circle_polygon(0.0, 0.0, radius),
             shapely.Polygon(),

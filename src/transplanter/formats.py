@@ -1,0 +1,325 @@
+"""The shop formats behind one interface: write a made part, read it back, verify it.
+
+A *made part* (:class:`MadePart`) is a prismatic part as the shop receives it: its section
+(shapely), its solid (manifold3d), its width and what its drawing says. Each format turns it
+into bytes and reads them back the way the shop's software would:
+
+========  ==============================  =======================================  =========================
+format    written from                    read back as                             verified
+========  ==============================  =======================================  =========================
+DXF       the section's one-sided arcs    the section (CUT contours, arcs exact)   within 1 µm, never outside
+STL       the solid's canonical mesh      the mid-plane section / the mesh         watertight, volume 1e-6
+STEP      the same arcs, extruded (OCC)   the OCC solid                            valid solid, volume 1e-6
+CSV       a contour's points              the section (outline or profile)         —
+3MF       several solids, placed          one body per part, assembled             no two bodies overlap
+========  ==============================  =======================================  =========================
+
+:func:`section_of` reads any file that describes a section (DXF, STL, outline or profile CSV)
+by its name; the meshing and follower checks read every source through it. Every reader turns
+a damaged file into :class:`~transplanter.errors.ExportError` naming it.
+
+**STEP verification.** The build checks the solid it writes (one solid, its volume against the
+arcs' exact area × width); ``transplanter check`` and the tests re-read the file and check it
+as a CAD import does (:meth:`Step.verify`: ``BRepCheck_Analyzer`` and the volume against the
+DXF's own arcs). Both checks of validity grow with the square of a face's edge count in
+OpenCASCADE: ~2 s for a 1200-flank planet, ~15 s for a 5000-flank ring — too slow for every
+build, fine for a check.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import shapely
+
+from transplanter import dxf, solids, step, stl, threemf
+from transplanter.errors import ExportError, GeometryError
+from transplanter.export import csv_array, csv_bytes, significant
+from transplanter.tolerances import DXF_READBACK_MM, SOLID_VOLUME_REL
+
+__all__ = [
+    "MadePart",
+    "Dxf",
+    "Stl",
+    "Step",
+    "Csv",
+    "ThreeMf",
+    "DXF",
+    "STL",
+    "STEP",
+    "CSV",
+    "THREEMF",
+    "section_of",
+    "read_shop_file",
+    "split_unreadable",
+    "ONE_SIDED_MM",
+]
+
+#: re-read DXF points outside the part by more than this (mm) count as added material: float
+#: round-off of the arc reconstruction is ~1e-12 mm
+ONE_SIDED_MM = 1e-9
+
+#: arcs of the re-read DXF are sampled to this chord (mm): what ``dxf.read_section`` uses for the
+#: meshing check, a tenth of the arc fit's tolerance; the samples lie on the arcs exactly, so the
+#: one-sided check is unaffected, and the read-back deviation is overstated by at most this
+READBACK_FLATTEN_MM = 5e-5
+
+
+@dataclass(frozen=True)
+class MadePart:
+    """A prismatic part as made: ``section`` × ``width`` (mm), its manifold3d ``solid``; the DXF's
+    ``notes``, ``marks`` ``(x, y, text)`` and open ``paths`` (n, 2) for its ANNOTATION layer."""
+
+    stem: str
+    section: shapely.Polygon
+    solid: object
+    width: float
+    notes: tuple[str, ...] = ()
+    marks: tuple[tuple[float, float, str], ...] = ()
+    paths: tuple[np.ndarray, ...] = field(default=(), compare=False)
+
+    @cached_property
+    def arcs(self) -> list[tuple[np.ndarray, bool]]:
+        """The section's contours as the DXF's one-sided arcs (``dxf.section_arcs``)."""
+        return dxf.section_arcs(self.section)
+
+    @property
+    def volume(self) -> float:
+        """Section area × width, mm³: what the STL must enclose."""
+        return self.section.area * self.width
+
+
+def _relative(value: float, expected: float) -> float:
+    return abs(value / expected - 1)
+
+
+def _matching(src: np.ndarray, contours: list[np.ndarray]) -> np.ndarray:
+    """The read-back contour that corresponds to ``src``: nearest perimeter plus centroid offset."""
+
+    def key(c):
+        per = float(np.sum(np.linalg.norm(np.diff(c, axis=0), axis=1)))
+        return abs(per - src_len) + float(np.linalg.norm(c.mean(axis=0) - src.mean(axis=0)))
+
+    src_len = float(np.sum(np.linalg.norm(np.diff(src, axis=0), axis=1)))
+    return min(contours, key=key)
+
+
+def material_added(section: shapely.Polygon, contours: list[np.ndarray]) -> float:
+    """Largest distance (mm) by which re-read ``contours`` stray outside ``section``: 0 when an
+    approximation only removed material (the DXF's one-sided arc fit)."""
+    pts = np.concatenate(contours)
+    shapely.prepare(section)
+    out = ~shapely.contains_xy(section, pts[:, 0], pts[:, 1])
+    if not out.any():
+        return 0.0
+    return float(shapely.distance(section, shapely.points(pts[out])).max())
+
+
+@dataclass(frozen=True)
+class Dxf:
+    """DXF for wire EDM (:mod:`transplanter.dxf`), R2000 (``<stem>.dxf``) or R12 (``<stem>.R12.dxf``)."""
+
+    version: str = "R2000"
+    name = "dxf"
+
+    @property
+    def suffix(self) -> str:
+        return ".dxf" if self.version == "R2000" else f".{self.version}.dxf"
+
+    def write(self, part: MadePart) -> bytes:
+        return dxf.dxf_bytes(
+            dxf.DxfPart(part.stem, part.section, part.notes, marks=part.marks, paths=part.paths), self.version
+        )
+
+    def read(self, data: bytes) -> shapely.Polygon:
+        return dxf.read_section(data)
+
+    def verify(self, part: MadePart, data: bytes) -> dict:
+        """Re-read contours simple and closed, within ``DXF_READBACK_MM`` of the section and never
+        outside it by more than ``ONE_SIDED_MM`` (the arc fit may remove material, never add it)."""
+        back = dxf.read_contours(data, READBACK_FLATTEN_MM)
+        crossing = [shapely.is_valid_reason(shapely.Polygon(c)) for c in back if not shapely.Polygon(c).is_valid]
+        if crossing:
+            raise GeometryError(
+                f"{part.stem}: a DXF contour is not a simple closed curve after the arc fit: {crossing[0]}"
+            )
+        rings = [np.asarray(part.section.exterior.coords), *(np.asarray(r.coords) for r in part.section.interiors)]
+        dev = max(dxf.contour_deviation(src, _matching(src, back)) for src in rings)
+        added = material_added(part.section, back)
+        if dev > DXF_READBACK_MM:
+            raise GeometryError(
+                f"{part.stem}: the DXF re-reads {dev * 1000:.3f} µm from the source "
+                f"(limit {DXF_READBACK_MM * 1000:g} µm)"
+            )
+        if added > ONE_SIDED_MM:
+            raise GeometryError(
+                f"{part.stem}: the DXF adds material: a re-read contour lies {added * 1000:.4f} µm outside the part "
+                f"(limit {ONE_SIDED_MM:g} mm; the arc fit must only remove material)"
+            )
+        return {
+            "contours": len(back),
+            "readback_deviation_mm": significant(dev),
+            "material_added_mm": significant(added),
+        }
+
+
+@dataclass(frozen=True)
+class Stl:
+    """Binary STL (:mod:`transplanter.stl`)."""
+
+    name = "stl"
+    suffix = ".stl"
+
+    def write(self, part: MadePart) -> bytes:
+        return stl.stl_bytes(part.solid)
+
+    def read(self, data: bytes) -> shapely.Polygon:
+        return stl.section(data)
+
+    def verify(self, part: MadePart, data: bytes) -> dict:
+        """Watertight, consistently wound, enclosing section area × width within ``SOLID_VOLUME_REL``."""
+        rep = stl.mesh_report(data)
+        err = _relative(rep.volume, part.volume)
+        out = {
+            "triangles": rep.triangles,
+            "watertight": rep.watertight,
+            "winding_consistent": rep.winding_consistent,
+            "volume_rel_error": significant(err),
+        }
+        if not (rep.watertight and rep.winding_consistent and err < SOLID_VOLUME_REL):
+            raise GeometryError(f"{part.stem}: the STL fails its checks {out}")
+        return out
+
+
+@dataclass(frozen=True)
+class Step:
+    """AP214 STEP (:mod:`transplanter.step`): the DXF's lines and arcs extruded by OpenCASCADE."""
+
+    name = "step"
+    suffix = ".step"
+
+    def write(self, part: MadePart) -> bytes:
+        return step.step_bytes(part.stem, part.arcs, part.width)
+
+    def read(self, data: bytes):
+        """The OCC shape (``step.read_step``)."""
+        return step.read_step(data)
+
+    def expected_volume(self, part: MadePart) -> float:
+        """The arcs' exact area × width, mm³."""
+        return step.arcs_area(part.arcs) * part.width
+
+    def report(self, shape, expected: float, stem: str, check: bool = True) -> dict:
+        """One solid (valid, with ``check``) of volume ``expected`` (within ``SOLID_VOLUME_REL``),
+        or GeometryError."""
+        rep = step.solid_report(shape, check)
+        err = _relative(rep.volume, expected)
+        out = {"solids": rep.solids, "faces": rep.faces, "valid": rep.valid, "volume_rel_error": significant(err)}
+        if rep.solids != 1 or rep.valid is False or err >= SOLID_VOLUME_REL:
+            raise GeometryError(f"{stem}: the STEP solid fails its checks {out} (volume {expected:.6f} mm³ expected)")
+        return out
+
+    def verify(self, stem: str, data: bytes, dxf_data: bytes, width: float) -> dict:
+        """Re-read the file and check its solid against the part's DXF as found: one valid solid
+        whose volume is the DXF section's exact area × ``width`` (slow for many flanks: see the
+        module docstring)."""
+        contours = read_shop_file(f"{stem}.dxf", dxf_data, dxf.bulge_contours)
+        shape = read_shop_file(f"{stem}.step", data, self.read)
+        return self.report(shape, step.arcs_area(contours) * width, stem) | {"reread": True}
+
+    def verify_written(self, part: MadePart) -> dict:
+        """Check the solid this format writes for ``part`` without re-reading a file."""
+        return self.report(step.prism(part.arcs, part.width), self.expected_volume(part), part.stem) | {"reread": False}
+
+
+@dataclass(frozen=True)
+class Csv:
+    """A contour as ``x_mm, y_mm`` rows (an outline), or with leading columns (a cam profile);
+    read back as a section — for an internal gear's outline, the material outside it."""
+
+    name = "csv"
+    suffix = ".csv"
+
+    def write(self, contour: np.ndarray, leading: dict[str, np.ndarray] | None = None) -> bytes:
+        cols = dict(leading or {})
+        header = [*cols, "x_mm", "y_mm"]
+        rows = [[*(f"{c[k]:.6f}" for c in cols.values()), f"{x:.9f}", f"{y:.9f}"] for k, (x, y) in enumerate(contour)]
+        return csv_bytes(header, rows)
+
+    def read(self, data: bytes, internal: bool = False) -> shapely.Polygon:
+        xy = csv_array(data)[:, -2:]
+        if not internal:
+            return shapely.Polygon(xy)
+        # a ring's material: outside the outline, to a rim 5 mm beyond its farthest point
+        rim = float(np.linalg.norm(xy, axis=1).max()) + 5.0
+        return shapely.Polygon(solids.circle_polygon(0.0, 0.0, rim).exterior.coords, [xy])
+
+
+@dataclass(frozen=True)
+class ThreeMf:
+    """3MF assembly (:mod:`transplanter.threemf`): named solids in their assembled positions."""
+
+    name = "3mf"
+    suffix = ".3mf"
+
+    def write(self, parts: list[tuple[str, object, np.ndarray]]) -> bytes:
+        return threemf.assembly_bytes(parts)
+
+    def read(self, data: bytes) -> dict:
+        return threemf.read_assembly(data)
+
+    def verify(self, data: bytes, names: list[str], volumes: dict[str, float] | None = None) -> dict:
+        """One closed body per named part (of the given volumes, mm³) and no two overlapping."""
+        bodies = self.read(data)
+        if sorted(bodies) != sorted(names):
+            raise GeometryError(f"the 3MF holds {sorted(bodies)}, expected one body per part {sorted(names)}")
+        for name, body in bodies.items():
+            if not body.is_watertight:
+                raise GeometryError(f"the 3MF body {name} is not closed")
+            if volumes and _relative(float(body.volume), volumes[name]) >= SOLID_VOLUME_REL:
+                raise GeometryError(f"the 3MF body {name} encloses {body.volume:.6f} mm³, not {volumes[name]:.6f}")
+        found = threemf.overlaps(bodies)
+        worst = max(found, key=lambda t: t[2], default=("", "", 0.0))
+        if worst[2] > threemf.ASSEMBLY_OVERLAP_MM3:
+            raise GeometryError(
+                f"in the 3MF assembly {worst[0]} and {worst[1]} overlap by {worst[2]:.4g} mm³ "
+                f"(limit {threemf.ASSEMBLY_OVERLAP_MM3:g} mm³)"
+            )
+        return {
+            "bodies": len(bodies),
+            "pairs_checked": len(found),
+            "max_overlap_mm3": significant(worst[2]),
+        }
+
+
+DXF, STL, STEP, CSV, THREEMF = Dxf(), Stl(), Step(), Csv(), ThreeMf()
+
+
+def section_of(name: str, data: bytes, internal: bool = False) -> shapely.Polygon:
+    """The part section a file describes, read by the format its name says (``.dxf``, ``.stl``,
+    ``.csv``); ``internal`` for a ring gear's outline CSV. ExportError naming the file if it
+    cannot be read."""
+    fmt = next((f for f in (DXF, STL, CSV) if name.endswith(f.suffix)), None)
+    if fmt is None:
+        raise ExportError(f"{name}: no section reader for this file type (.dxf, .stl, .csv)")
+    return read_shop_file(name, data, lambda d: fmt.read(d, internal) if fmt is CSV else fmt.read(d))
+
+
+def read_shop_file(name: str, data: bytes, reader):
+    """``reader(data)`` or ExportError saying the file cannot be read (a truncated or damaged
+    file must be reported as such, not end the check)."""
+    try:
+        return reader(data)
+    except Exception as exc:  # any reader's error on damaged bytes
+        raise ExportError(f"cannot read {name}: {type(exc).__name__}: {exc}") from exc
+
+
+def split_unreadable(reports: dict) -> tuple[dict, dict, list[str]]:
+    """``{source: report, or the reason its file cannot be read}`` split into the readable
+    reports, the results entries ``{source: {"error": reason}}`` and the problems ``source: reason``
+    (for a check that must report a damaged file and go on)."""
+    bad = {k: v for k, v in sorted(reports.items()) if isinstance(v, str)}
+    readable = {k: v for k, v in reports.items() if k not in bad}
+    return readable, {k: {"error": v} for k, v in bad.items()}, [f"{k}: {v}" for k, v in bad.items()]
