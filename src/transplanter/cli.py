@@ -214,7 +214,8 @@ def _made_line(r: dict) -> str:
     if "bodies" in r:
         return f"{r['bodies']} bodies, largest overlap {r['max_overlap_mm3']:.3g} mm³"
     return (
-        f"{r['solids']} solid, {r['faces']} faces, {'valid' if r['valid'] else 'INVALID'}, "
+        f"{r['solids']} solid, {r['faces']} faces, {'valid' if r['valid'] else 'INVALID'} "
+        f"({r.get('checked_by', 'not checked')}), "
         f"volume off by {r['volume_rel_error']:.3g} (relative)"
     )
 
