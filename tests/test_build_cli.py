@@ -156,7 +156,7 @@ def test_build_family_returns_manifest(tmp_path, parts_dir):
     fam = load_family(parts_dir / "fourbar_seed003.py")
     seen = []
     manifest = build_family(fam, tmp_path, progress=seen.append)
-    assert seen == ["fourbar_seed003/type_I", "fourbar_seed003/type_II"]
+    assert seen == [f"fourbar_seed003/{n}" for n in ("type_I", "type_II", "type_I_plates", "type_II_plates")]
     cw = manifest["parts"]["type_I"]["results"]["counterweight"]["vertical"]
     assert abs(cw["radius_for_total_mass_mm"] - 35.7) < 0.05
 

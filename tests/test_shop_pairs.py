@@ -179,7 +179,7 @@ def _shipped(built):
     for family in sorted(p for p in built.iterdir() if p.is_dir()):
         manifest = json.loads((family / "manifest.json").read_text())
         for name, rec in sorted(manifest["parts"].items()):
-            if "assembly" in rec.get("results", {}):
+            if rec.get("kind") == "toothed_pair" and "assembly" in rec.get("results", {}):
                 yield family, name, rec
 
 

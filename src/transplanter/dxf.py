@@ -331,15 +331,18 @@ def section_arcs(section: shapely.Polygon, tolerance: float = DXF_ARC_TOLERANCE_
     return [(fit_arcs(inset_ring(ring, inset), tolerance), inner) for ring, inner in _rings(oriented)]
 
 
-def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_TOLERANCE_MM) -> bytes:
-    """The DXF of ``part`` (see the module docstring), as bytes."""
+def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_TOLERANCE_MM, arcs=None) -> bytes:
+    """The DXF of ``part`` (see the module docstring), as bytes; ``arcs`` are the section's
+    :func:`section_arcs` when the caller has them already (without a wire offset)."""
     with _writing(f"the DXF of {part.name}"):
         doc = _new_doc(version)
         msp = doc.modelspace()
         section = part.section if part.wire_offset is None else wire_path(part.section, part.wire_offset)
         if part.wire_offset is not None:
             doc.layers.get("CUT").dxf.color = 5
-        for verts, inner in section_arcs(section, tolerance):
+        if arcs is None or part.wire_offset is not None or tolerance != DXF_ARC_TOLERANCE_MM:
+            arcs = section_arcs(section, tolerance)
+        for verts, inner in arcs:
             add_contour(msp, verts, version, "CUT")
             if inner:
                 hole = shapely.Polygon(verts[:, :2])

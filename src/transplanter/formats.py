@@ -130,9 +130,8 @@ class Dxf:
         return ".dxf" if self.version == "R2000" else f".{self.version}.dxf"
 
     def write(self, part: MadePart) -> bytes:
-        return dxf.dxf_bytes(
-            dxf.DxfPart(part.stem, part.section, part.notes, marks=part.marks, paths=part.paths), self.version
-        )
+        dxf_part = dxf.DxfPart(part.stem, part.section, part.notes, marks=part.marks, paths=part.paths)
+        return dxf.dxf_bytes(dxf_part, self.version, arcs=part.arcs)
 
     def read(self, data: bytes) -> shapely.Polygon:
         return dxf.read_section(data)

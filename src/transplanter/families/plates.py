@@ -134,8 +134,13 @@ class LinkPlatesStudy:
         # the exact circle polygons the proof reads back)
         plate = shapely.union(body, finger)
         closed = plate.buffer(FILLET_MM, quad_segs=64).buffer(-FILLET_MM, quad_segs=64)
+        ring = np.asarray(shapely.geometry.polygon.orient(plate, 1.0).exterior.coords)[:-1]
+        d_in, d_out = ring - np.roll(ring, 1, axis=0), np.roll(ring, -1, axis=0) - ring
+        cross = d_in[:, 0] * d_out[:, 1] - d_in[:, 1] * d_out[:, 0]
+        turn = cross / (np.linalg.norm(d_in, axis=1) * np.linalg.norm(d_out, axis=1))
+        corners = shapely.multipoints(ring[turn < -1e-3])  # turning clockwise by more than 0.06 deg
         added = shapely.get_parts(shapely.difference(closed, plate))
-        fillets = [p for p in added if p.area > 1e-3 * FILLET_MM**2]
+        fillets = [p for p in added if not corners.is_empty and shapely.distance(p, corners) < 1e-6]
         return shapely.union_all([plate, *fillets])
 
     def _features(self, link: str) -> Features:

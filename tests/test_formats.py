@@ -1,0 +1,112 @@
+"""The shop-format layer: STEP from exact arcs, 3MF assemblies, reading any section by its name."""
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+import trimesh
+
+from transplanter import dxf, formats, step, threemf
+from transplanter.errors import ExportError, GeometryError
+from transplanter.families.making import Making, manufacture
+from transplanter.solids import Features, circle_polygon
+from transplanter.tolerances import SOLID_VOLUME_REL
+
+
+def _plate() -> shapely.Polygon:
+    """A slotted link plate: two bosses, their hull, a long straight side (a near-flat arc fit)."""
+    return shapely.convex_hull(shapely.union(circle_polygon(0, 0, 10.0), circle_polygon(260.0, 0, 6.0)))
+
+
+@pytest.fixture(scope="module")
+def made():
+    res, files, part = manufacture(
+        "plate", _plate(), shapely.Polygon(), Making(6.0, Features(holes=((0, 0, 8.05), (260, 0, 6.05)))), (), str
+    )
+    return res, files, part
+
+
+def test_step_is_the_dxf_section_extruded_and_rebuilds_byte_identical(made):
+    res, files, part = made
+    data = files["plate.step"]
+    assert data.startswith(b"ISO-10303-21;") and b"FILE_NAME('plate','1970-01-01T00:00:00'" in data
+    assert b"PRODUCT('plate','plate'" in data
+    assert formats.STEP.write(part) == data  # no time stamp, no per-process counter
+    assert res["step"]["solids"] == 1 and res["step"]["volume_rel_error"] < 1e-9
+    # re-read by OCP's reader and checked against the DXF's own arcs × width
+    rep = formats.STEP.verify("plate", data, files["plate.dxf"], 6.0)
+    assert rep["valid"] is True and rep["checked_by"] == "BRepCheck_Analyzer"
+    assert rep["volume_rel_error"] < SOLID_VOLUME_REL
+    # the arcs' closed-form area is the section's to the one-sided fit's inset (0.3 µm × perimeter)
+    area = step.arcs_area(dxf.bulge_contours(files["plate.dxf"]))
+    assert 0 < part.section.area - area < 0.5e-3 * part.section.boundary.length
+
+
+def test_a_nearly_straight_arc_keeps_its_sagitta_in_the_step_file():
+    # R = 1.7e8 mm: written as a circle with STEP's 13 digits its centre moves by ~1e-4 mm
+    chord, sagitta = 262.0, 5e-5
+    bulge = 2 * sagitta / chord
+    verts = np.array([[0.0, 0.0, bulge], [chord, 0.0, 0.0], [chord, 20.0, 0.0], [0.0, 20.0, 0.0]])
+    contours = [(verts, False)]
+    shape = step.read_step(step.step_bytes("flat", contours, 5.0))
+    rep = step.solid_report(shape)
+    # the segment is 0.044 mm³ (1.7e-6 of the solid): kept to GProp's integration of the B-spline
+    assert rep.valid and abs(rep.volume / (step.arcs_area(contours) * 5.0) - 1) < 1e-8
+
+
+def test_the_closed_shell_check_used_above_the_brepcheck_limit(monkeypatch):
+    circle = np.array([[10.0, 0.0, 1.0], [-10.0, 0.0, 1.0]])  # two half circles
+    shape = step.prism([(circle, False)], 3.0)
+    monkeypatch.setattr(step, "FULL_CHECK_FACES", 0)
+    rep = step.solid_report(shape)
+    assert rep.check == "closed shell" and rep.valid and abs(rep.volume - math.pi * 100 * 3) < 1e-9
+    occ = step._occ()
+    face = occ.TopExp_Explorer(shape, occ.TopAbs_ShapeEnum.TopAbs_FACE).Current()
+    assert step.solid_report(face).valid is False  # an open face: edges bound one face
+
+
+def test_damaged_files_are_named_not_tracebacks(made):
+    _, files, _ = made
+    with pytest.raises(ExportError, match="plate.step"):
+        formats.STEP.verify("plate", files["plate.step"][:5000], files["plate.dxf"], 6.0)
+    with pytest.raises(ExportError, match="cannot read plate.dxf"):
+        formats.section_of("plate.dxf", b"0\nSECTION\n")
+    with pytest.raises(ExportError, match="no section reader"):
+        formats.section_of("plate.step", files["plate.step"])
+    with pytest.raises(ExportError, match="3MF cannot be read"):
+        formats.THREEMF.read(b"PK\x03\x04 not a zip")
+
+
+def test_section_of_reads_every_section_format_alike(made):
+    _, files, part = made
+    for name in ("plate.dxf", "plate.stl"):  # the DXF's arcs lie 0.05-0.55 µm inside the section
+        sec = formats.section_of(name, files[name])
+        assert abs(sec.area - part.section.area) < 0.6e-3 * part.section.boundary.length, name
+    csv = formats.CSV.write(np.asarray(part.section.exterior.coords)[:-1])
+    assert abs(formats.section_of("plate.outline.csv", csv).area - shapely.Polygon(part.section.exterior).area) < 1e-6
+    ring = formats.CSV.read(csv, internal=True)  # a ring's material lies outside its outline
+    assert ring.interiors and ring.contains(shapely.Point(0, 40.0))
+
+
+def test_3mf_assembly_names_its_bodies_places_them_and_finds_overlaps(made):
+    _, _, part = made
+    placed = [("a", part.solid, threemf.placement()), ("b", part.solid, threemf.placement(z=6.5))]
+    data = formats.THREEMF.write(placed)
+    assert formats.THREEMF.write(placed) == data  # UUIDs from the names, fixed zip dates
+    rep = formats.THREEMF.verify(data, ["a", "b"], {"a": part.volume, "b": part.volume})
+    assert rep == {"bodies": 2, "pairs_checked": 0, "max_overlap_mm3": 0.0}
+    bodies = formats.THREEMF.read(data)
+    assert bodies["b"].bounds[0][2] == pytest.approx(6.5) and bodies["a"].is_watertight
+    with pytest.raises(GeometryError, match="expected one body per part"):
+        formats.THREEMF.verify(data, ["a", "c"])
+    turned = [("a", part.solid, threemf.placement()), ("b", part.solid, threemf.placement(angle=0.1))]
+    with pytest.raises(GeometryError, match=r"a and b overlap by [0-9.]+ mm³"):
+        formats.THREEMF.verify(formats.THREEMF.write(turned), ["a", "b"])
+    with pytest.raises(ExportError, match="names two parts alike"):
+        formats.THREEMF.write([("a", part.solid, np.eye(4))] * 2)
+
+
+def test_an_open_manifold_is_refused_in_an_assembly():
+    with pytest.raises(GeometryError, match="not a closed manifold"):
+        threemf._manifold(trimesh.Trimesh(np.eye(3), [[0, 1, 2]]))
