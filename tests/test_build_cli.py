@@ -26,18 +26,23 @@ def _tree_hashes(root: Path) -> dict[str, str]:
 
 def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir, built):
     a, b = built, tmp_path / "b"  # built with --jobs 2; this one serially, so the order of work differs too
-    assert cli.main(["build", "--parts", str(parts_dir), "-o", str(b)]) == 0
-    ha, hb = _tree_hashes(a), _tree_hashes(b)
+    # two four-bar families, analyses and plates (the gear families cost two thirds of a build; the
+    # made parts of every kind go through the same writers, and STEP and 3MF rebuild byte-identical
+    # in test_formats)
+    scripts = [str(parts_dir / f"fourbar_seed00{k}.py") for k in (1, 3)]
+    assert cli.main(["build", *scripts, "-o", str(b), "--jobs", "1"]) == 0
+    ha = {k: v for k, v in _tree_hashes(a).items() if k.startswith(("fourbar_seed001", "fourbar_seed003"))}
+    hb = _tree_hashes(b)
     assert ha == hb
     for fam in ("planetary_seed004", "potseedling_seed002"):
         assert "<img src=" in (a / fam / "report.html").read_text()
     assert ".dxf" in (a / "potseedling_seed002" / "report.html").read_text()
     stls = sorted(a.rglob("*.stl"))
-    assert len(stls) >= 5  # seed-002 four gears and the cam (seed 004's fouling pair has none)
+    assert len(stls) >= 5 + 24  # seed-002 four gears and the cam, the four-bars' 24 plates, seed 004's parts
     if admesh_available():
         for path in stls:
             assert_admesh_clean(path)
-    assert {Path(k).parts[0] for k in ha} == {
+    assert {Path(k).parts[0] for k in _tree_hashes(a)} == {
         "fourbar_seed000",
         "fourbar_seed001",
         "fourbar_seed003",
@@ -228,7 +233,18 @@ def test_check_command_reruns_the_checks_on_disk(built, capsys):
     assert "train tip deviation" in out and "finding (expected): outline: the teeth foul" in out
     assert "mechanism_B: 2 data files reproduced by the script" in out
     assert "type_II:" in out and "eight_row_arm:" in out and "transplanting_train:" in out
+    assert "eight_row_arm_plates [tip_path]: tip path of the four-bar rebuilt from the plates: max deviation" in out
+    assert "eight_row_arm_plates [eight_row_arm_plates.coupler.step]: 1 solid, 19 faces, valid (BRepCheck" in out
     assert out.count("  ok\n") == 5
+    # every STEP of a part with checks, re-read by OCP as a valid solid of its DXF's volume, and
+    # every 3MF re-read by trimesh with one body per part and no overlap
+    steps = {p.name for p in built.rglob("*.step")} - {"optimised_train.carrier.step"}  # test_formats
+    lines = [line for line in out.splitlines() if ".step]: " in line]
+    assert {line.split("[")[1].split("]")[0] for line in lines} == steps and len(steps) >= 5 + 24 + 2
+    assert all("1 solid" in line and ", valid (" in line for line in lines)
+    models = [line for line in out.splitlines() if ".3mf]: " in line]
+    assert len(models) == len(list(built.rglob("*.3mf"))) >= 2 + 1 + 6
+    assert all("largest overlap 0 mm³" in line for line in models)
 
 
 SMALL_PAIR = """
@@ -240,7 +256,7 @@ from transplanter.solids import Features
 
 def family():
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.15, 2), "external", 2).sized(module=2.0)
-    making = (Making(6.0, Features(bore=8.0)),) * 2
+    making = (Making(6.0, Features(bore=8.0), step=False),) * 2  # the STEP is tested on its own
     study = ToothedPairStudy("pair", pair, ShaperCutter(12, 2.0), sizing.teeth[0], making=making, mesh_steps=36)
     return Family("small", "an elliptical pair", (study,))
 """

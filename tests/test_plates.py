@@ -88,15 +88,11 @@ def test_the_tip_path_drawn_on_the_frame_is_the_designed_one(built, parts_dir):
     assert len(drawn) == len(design) + 1 and np.abs(drawn[:-1] - design).max() < 1e-9
 
 
-def test_check_catches_a_moved_hole(tmp_path, parts_dir, capsys):
-    out = tmp_path / "out"
-    assert cli.main(["build", str(parts_dir / "fourbar_seed001.py"), "-o", str(out), "--jobs", "1"]) == 0
-    folder = out / "fourbar_seed001"
-    assert cli.main(["check", str(folder)]) == 0
-    text = capsys.readouterr().out
-    assert "eight_row_arm_plates [tip_path]: tip path of the four-bar rebuilt from the plates" in text
-    assert "eight_row_arm_plates [eight_row_arm_plates.coupler.step]: 1 solid" in text and "valid (BRepCheck" in text
-    assert "eight_row_arm_plates [eight_row_arm_plates.assembly.3mf]: 4 bodies, largest overlap 0 mm³" in text
+def test_check_catches_a_moved_hole(tmp_path, built, capsys):
+    folder = tmp_path / "fourbar_seed001"
+    shutil.copytree(built / "fourbar_seed001", folder)
+    # as built it passes (test_build_cli's check of every family says so, with these lines:
+    # "eight_row_arm_plates [tip_path]: tip path of the four-bar rebuilt from the plates: ...")
     # the shop's coupler with its C hole 0.01 mm further out: the arm it builds misses the path
     path = folder / "eight_row_arm_plates.coupler.dxf"
     doc = ezdxf.readfile(path)

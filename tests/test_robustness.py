@@ -326,7 +326,7 @@ from transplanter.solids import Features
 
 def family():
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.15, 2), "external", 2).sized(module=2.0)
-    making = (Making(6.0, Features(bore=8.0)),) * 2
+    making = (Making(6.0, Features(bore=8.0), step=False),) * 2  # the STEP is tested on its own
     cut = ShaperCutter(12, 2.0)
     study = ToothedPairStudy("p", pair, cut, sizing.teeth[0], making=making, mesh_steps=8)
     return Family("small", "an elliptical pair", (study,))

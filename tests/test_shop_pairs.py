@@ -162,7 +162,7 @@ def test_zero_backlash_shop_files_carry_a_note(tmp_path):
         pair,
         ShaperCutter(12, 2.0),
         sizing.teeth[0],
-        making=(Making(6.0, Features(bore=6.5, keyway=False)),) * 2,
+        making=(Making(6.0, Features(bore=6.5, keyway=False), step=False),) * 2,
         backlash=0.0,
         mesh_steps=24,
     )
@@ -311,7 +311,7 @@ def test_reports_say_built_withheld_or_failed_in_their_headlines(built):
     assert "all parts built" not in page and "1 withheld" in page
     assert "withheld as a finding" in page
     page = (built / "potseedling_seed002" / "report.html").read_text()
-    assert "built — shop files: gears_2_3.assembly.dxf" in page
+    assert "built — shop files: gears_2_3.assembly.3mf, gears_2_3.assembly.dxf" in page
     assert "1 withheld" not in page and "failed" not in page
     # at most 4 significant digits in the tables (the manifest keeps the full figures)
     table = page[page.index("<table>") :]

@@ -60,6 +60,7 @@ __all__ = [
     "assembly_bytes",
     "section_arcs",
     "bulge_contours",
+    "bulge_area",
     "read_section",
     "contour_deviation",
     "wire_path",
@@ -408,13 +409,27 @@ def _parsed_cut_polylines(data: bytes) -> tuple[np.ndarray, ...]:
     return tuple(out)
 
 
+def bulge_area(verts: np.ndarray) -> float:
+    """Signed area (mm², counter-clockwise positive) enclosed by closed bulge vertices ``(n, 3)``:
+    the polygon of the vertices plus each arc's circular segment ``R²/2 (θ - sin θ)``, signed
+    with its bulge (``θ = 4 atan(bulge)``) — exact for lines and arcs."""
+    v = np.asarray(verts, dtype=float)
+    x, y, b = v[:, 0], v[:, 1], v[:, 2]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    area = 0.5 * float(np.sum(x * yn - xn * y))
+    theta = 4.0 * np.arctan(b[b != 0])
+    chord = np.hypot(xn - x, yn - y)[b != 0]
+    r = chord / (2.0 * np.abs(np.sin(theta / 2)))
+    return area + float(np.sum(np.sign(theta) * r**2 / 2 * (np.abs(theta) - np.sin(np.abs(theta)))))
+
+
 def bulge_contours(data: bytes) -> list[tuple[np.ndarray, bool]]:
-    """The CUT contours as read, bulge vertices ``(n, 3)`` each, the largest first and the others
-    marked as holes: ``[(verts, is_hole)]``, the form ``section_arcs`` gives."""
+    """The CUT contours as read, bulge vertices ``(n, 3)`` each, the largest (by :func:`bulge_area`)
+    first and the others marked as holes: ``[(verts, is_hole)]``, the form ``section_arcs`` gives."""
     polys = _cut_polylines(data)
     if not polys:
         raise ExportError("the DXF has no closed contour on its CUT layer")
-    order = sorted(range(len(polys)), key=lambda k: -abs(shapely.Polygon(polys[k][:, :2]).area))
+    order = sorted(range(len(polys)), key=lambda k: -abs(bulge_area(polys[k])))
     return [(polys[k], i > 0) for i, k in enumerate(order)]
 
 

@@ -44,7 +44,7 @@ _UNITS = (
     ("_kg", "kg"),
     ("_s", "s"),
 )
-_SHOP = (".dxf", ".stl")
+_SHOP = (".dxf", ".stl", ".step", ".3mf")
 
 
 def _label(key: str) -> tuple[str, str]:

@@ -34,6 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from transplanter.dxf import bulge_area
 from transplanter.errors import ExportError, GeometryError
 
 __all__ = ["arcs_area", "step_bytes", "read_step", "SolidReport", "solid_report"]
@@ -48,22 +49,9 @@ ORIGINATING_SYSTEM = "transplanter (OpenCASCADE STEP processor)"
 
 
 def arcs_area(contours: list[tuple[np.ndarray, bool]]) -> float:
-    """Exact area (mm²) of a section given as closed bulge contours ``[(verts (n, 3), is_hole)]``:
-    the polygon of the vertices plus, for each arc, its circular segment ``R²/2 (θ - sin θ)``
-    (signed with the bulge; ``θ = 4 atan(bulge)``). Holes are subtracted."""
-    total = 0.0
-    for verts, hole in contours:
-        v = np.asarray(verts, dtype=float)
-        x, y, b = v[:, 0], v[:, 1], v[:, 2]
-        xn, yn = np.roll(x, -1), np.roll(y, -1)
-        area = 0.5 * float(np.sum(x * yn - xn * y))
-        theta = 4.0 * np.arctan(b)
-        chord = np.hypot(xn - x, yn - y)
-        arc = theta != 0
-        r = chord[arc] / (2.0 * np.abs(np.sin(theta[arc] / 2)))
-        area += float(np.sum(np.sign(theta[arc]) * r**2 / 2 * (np.abs(theta[arc]) - np.sin(np.abs(theta[arc])))))
-        total += -abs(area) if hole else abs(area)
-    return total
+    """Exact area (mm²) of a section given as closed bulge contours ``[(verts (n, 3), is_hole)]``
+    (``dxf.bulge_area`` of each, the holes subtracted)."""
+    return sum(-abs(bulge_area(v)) if hole else abs(bulge_area(v)) for v, hole in contours)
 
 
 @functools.cache
@@ -161,10 +149,9 @@ def _fixed_header(occ, writer, name: str) -> None:
     header.SetPreprocessorVersion(occ.HString(ORIGINATING_SYSTEM))
 
 
-def step_bytes(name: str, contours: list[tuple[np.ndarray, bool]], width: float) -> bytes:
-    """AP214 STEP of the prism over ``contours`` (see the module docstring), in mm, as bytes."""
+def step_bytes(name: str, shape) -> bytes:
+    """AP214 STEP of an OCC solid (:func:`prism`; see the module docstring), in mm, as bytes."""
     occ = _occ()
-    shape = prism(contours, width)
     occ.STEPControl_Controller.Init_s()  # the write.* settings exist once the controller is set up
     occ.Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
     # no 2D curves of the edges on their faces (PCURVE): optional in STEP, derived by every reader
@@ -185,11 +172,18 @@ def step_bytes(name: str, contours: list[tuple[np.ndarray, bool]], width: float)
     return re.sub(rb"PRODUCT\('[^']*',\s*'[^']*'", b"PRODUCT('%s','%s'" % (name.encode(), name.encode()), data, count=1)
 
 
-#: OpenCASCADE's import repairs self-intersecting wires with a search that grows with the square
-#: of a face's edge count (minutes for a ring gear's 5000-arc face); checking a file must see
-#: what it holds, not a repaired version, so the repair is off ("0": do not perform) — the
-#: solid's validity is then asked of ``BRepCheck_Analyzer`` (:func:`solid_report`)
-READ_REPAIR = {"FixShape.FixSelfIntersectionMode": "0"}
+#: OpenCASCADE's import repairs self-intersecting wires and re-orients a face's wires with searches
+#: that grow with the square of a face's edge count (minutes for a ring gear's 5800-face solid),
+#: and re-fits every edge's parameters to its face (a fifth of the rest); checking a file must
+#: see what it holds, not a repaired version, so these repairs are off
+#: ("0": do not perform) — the solid's validity is then asked of ``BRepCheck_Analyzer`` or the
+#: closed-shell check (:func:`solid_report`), and a wrongly oriented hole shows in the volume.
+#: (The wire repair that derives each edge's 2D curve on its face stays on: the files carry none.)
+READ_REPAIR = {
+    "FixShape.FixSelfIntersectionMode": "0",
+    "FixShape.FixOrientationMode": "0",
+    "FixShape.FixSameParameterMode": "0",
+}
 
 
 def read_step(data: bytes):
@@ -213,9 +207,10 @@ def read_step(data: bytes):
 
 
 #: up to this many faces a solid is checked by ``BRepCheck_Analyzer``, whose vertex check explores
-#: the whole solid for every vertex (quadratic: ~1.5 s at 1250 faces, ~60 s for a ring gear's
-#: 5800); above it, by the linear checks a closed solid must pass (see :func:`solid_report`)
-FULL_CHECK_FACES = 2000
+#: the whole solid for every vertex (quadratic: ~0.1 s at 300 faces, ~1.5 s at a gear's 1250,
+#: ~60 s for a ring gear's 5800); above it, by the linear checks a closed solid must pass (see
+#: :func:`solid_report`)
+FULL_CHECK_FACES = 500
 
 
 @dataclass(frozen=True)

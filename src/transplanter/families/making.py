@@ -15,12 +15,15 @@ __all__ = ["Making", "manufacture", "assembly_file", "check_shop_files"]
 
 @dataclass(frozen=True)
 class Making:
-    """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions."""
+    """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions,
+    and whether a STEP is written."""
 
     width: float
     features: solids.Features = field(default_factory=solids.Features)
     wire: tuple[float, float] = (0.25, 0.02)
     dxf_versions: tuple[str, ...] = ("R2000",)
+    #: write the STEP too (what CAD users open; ~1 s per 1000 arcs of outline)
+    step: bool = True
 
     def __post_init__(self) -> None:
         finite_positive("face width", self.width)
@@ -30,6 +33,8 @@ class Making:
             raise SpecError.out_of_range("wire", self.wire, "(diameter, spark gap) in mm")
         check_number("wire diameter", self.wire[0], 0.0, 5.0, low_open=True, unit="mm")
         check_number("wire spark gap", self.wire[1], 0.0, 1.0, unit="mm")
+        if not isinstance(self.step, bool):
+            raise SpecError.out_of_range("step", self.step, "True or False")
         for v in self.dxf_versions:
             if v not in ("R2000", "R12"):
                 raise SpecError.out_of_range("dxf_versions", self.dxf_versions, "'R2000' and/or 'R12'")
@@ -72,7 +77,8 @@ def manufacture(
         "wire_radius_mm": wire_r,
     }
     files: dict[str, bytes] = {}
-    for fmt in (formats.STL, *(formats.Dxf(v) for v in making.dxf_versions), formats.STEP):
+    shop = (formats.STL, *(formats.Dxf(v) for v in making.dxf_versions), *((formats.STEP,) if making.step else ()))
+    for fmt in shop:
         data = fmt.write(made)
         key = "stl" if fmt is formats.STL else "step" if fmt is formats.STEP else f"dxf_{fmt.version}"
         results[key] = formats.STEP.verify_written(made) if fmt is formats.STEP else fmt.verify(made, data)
