@@ -11,7 +11,8 @@ triangles, and its volume is known in closed form (:func:`arcs_area`).
 The file's header is fixed (part name, no time stamp, transplanter as the originating system),
 so rebuilding gives identical bytes. :func:`read_step` re-reads a file with OCP's own
 STEP reader; :func:`solid_report` checks a shape the way a CAD system does on import
-(``BRepCheck_Analyzer``: one valid closed solid) and measures its volume (``BRepGProp``).
+(one solid, valid by ``BRepCheck_Analyzer`` or, above ``FULL_CHECK_FACES``, a closed and
+consistently oriented shell) and measures its volume (``BRepGProp``).
 
 OCP is imported on first use (it is large): importing this module is cheap.
 

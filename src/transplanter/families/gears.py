@@ -155,9 +155,8 @@ class ToothedPairStudy:
         pair, sizing = self._sized()
         out = {}
         for source in sources:
-            names = [
-                f"{self.name}.{role}.{source}{'.csv' if source == 'outline' else ''}" for role in ("driver", "driven")
-            ]
+            suffix = "outline.csv" if source == "outline" else source
+            names = [f"{self.name}.{role}.{suffix}" for role in ("driver", "driven")]
             if not all(n in files for n in names):
                 continue
             try:
@@ -224,13 +223,23 @@ class ToothedPairStudy:
         else:
             r = a["centre_distance_mm"]
             driven = []
-            for k, (carrier, body) in enumerate(
-                zip(a["planet_carrier_angles_deg"], a["planet_body_angle_to_carrier_line_deg"], strict=True)
+            for name, carrier, body in zip(
+                self._bodies()[1:],
+                a["planet_carrier_angles_deg"],
+                a["planet_body_angle_to_carrier_line_deg"],
+                strict=True,
             ):
                 c = math.radians(carrier)
-                at = placement(r * math.cos(c), r * math.sin(c), 0.0, c + math.radians(body))
-                driven.append((f"{a['driven']}.{k + 1}", parts["driven"], at))
+                driven.append(
+                    (name, parts["driven"], placement(r * math.cos(c), r * math.sin(c), 0.0, c + math.radians(body)))
+                )
         return [(a["driver"], parts["driver"], placement()), *driven]
+
+    def _bodies(self) -> list[str]:
+        """The bodies of ``<name>.assembly.3mf``: driver and driven, or the ring and each planet."""
+        if self.train is None:
+            return [f"{self.name}.driver", f"{self.name}.driven"]
+        return [f"{self.name}.driver", *(f"{self.name}.driven.{k + 1}" for k in range(self.train.planets))]
 
     def _planets(self) -> dict:
         """With a train: how many planets to make, and where they sit on the carrier."""
@@ -547,9 +556,4 @@ class ToothedPairStudy:
         if self.making is None:
             return {}, []
         widths = {f"{self.name}.{role}": m.width for role, m in zip(("driver", "driven"), self.making, strict=True)}
-        bodies = [f"{self.name}.driver"]
-        if self.train is None:
-            bodies.append(f"{self.name}.driven")
-        else:
-            bodies += [f"{self.name}.driven.{k + 1}" for k in range(self.train.planets)]
-        return check_shop_files(files, widths, (f"{self.name}.assembly.3mf", bodies))
+        return check_shop_files(files, widths, (f"{self.name}.assembly.3mf", self._bodies()))
