@@ -27,6 +27,7 @@ Examples
 from __future__ import annotations
 
 import functools
+import io
 import math
 import os
 import re
@@ -75,7 +76,10 @@ def _occ():
         gp,
     )
     from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
+    from OCP.BRep import BRep_Builder
+    from OCP.StepData import StepData_StepWriter
     from OCP.TCollection import TCollection_AsciiString, TCollection_HAsciiString
+    from OCP.TopoDS import TopoDS_Wire
 
     for printer in Message.Message.DefaultMessenger_s().Printers():
         printer.SetTraceLevel(Message.Message_Gravity.Message_Fail)
@@ -85,6 +89,9 @@ def _occ():
     ns["GeomConvert"] = GeomConvert.GeomConvert
     ns.update({k: getattr(m, k) for m in (TopAbs, TopExp, gp) for k in dir(m) if not k.startswith("_")})
     ns["MakeHeader"] = APIHeaderSection_MakeHeader
+    ns["StepData_StepWriter"] = StepData_StepWriter
+    ns["BRep_Builder"] = BRep_Builder
+    ns["TopoDS_Wire"] = TopoDS_Wire
     ns["HString"] = TCollection_HAsciiString
     ns["AString"] = TCollection_AsciiString
     return type("OCC", (), ns)
@@ -95,7 +102,11 @@ def _wire(occ, verts: np.ndarray):
     n = len(verts)
     pts = [occ.gp_Pnt(float(x), float(y), 0.0) for x, y, _ in verts]
     vertices = [occ.BRepBuilderAPI_MakeVertex(p).Vertex() for p in pts]
-    wire = occ.BRepBuilderAPI_MakeWire()
+    # the edges join in order through shared vertices, so the wire is assembled directly
+    # (BRepBuilderAPI_MakeWire searches the wire for each new edge's vertex: quadratic)
+    wire = occ.TopoDS_Wire()
+    builder = occ.BRep_Builder()
+    builder.MakeWire(wire)
     for k in range(n):
         j = (k + 1) % n
         (x0, y0, bulge), (x1, y1, _) = verts[k], verts[j]
@@ -118,10 +129,9 @@ def _wire(occ, verts: np.ndarray):
             edge = occ.BRepBuilderAPI_MakeEdge(curve, vertices[k], vertices[j])
         if not edge.IsDone():
             raise GeometryError(f"cannot build the STEP edge from ({x0:g}, {y0:g}) to ({x1:g}, {y1:g}) mm")
-        wire.Add(edge.Edge())
-    if not wire.IsDone():
-        raise GeometryError("the STEP contour does not close into one wire")
-    return wire.Wire()
+        builder.Add(wire, edge.Edge())
+    wire.Closed(True)
+    return wire
 
 
 def prism(contours: list[tuple[np.ndarray, bool]], width: float):
@@ -130,7 +140,8 @@ def prism(contours: list[tuple[np.ndarray, bool]], width: float):
     outer = [v for v, hole in contours if not hole]
     if len(outer) != 1:
         raise GeometryError(f"a STEP part needs exactly one outer contour, got {len(outer)}")
-    face = occ.BRepBuilderAPI_MakeFace(_wire(occ, outer[0]), True)
+    # on the plane z = 0, normal +z (the outline counter-clockwise): given, not fitted to the points
+    face = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(), _wire(occ, outer[0]), True)
     for verts, hole in contours:
         if hole:  # clockwise (``dxf.section_arcs`` orients the section): material on its left
             face.Add(_wire(occ, verts))
@@ -160,28 +171,33 @@ def step_bytes(name: str, shape) -> bytes:
     occ.Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
     occ.Interface_Static.SetCVal_s("write.step.unit", "MM")
     writer = occ.STEPControl_Writer()
-    if writer.Transfer(shape, occ.STEPControl_StepModelType.STEPControl_AsIs) != occ.IFSelect_RetDone:
+    # compgraph=False: the session's entity graph and its check of every entity (quadratic in a
+    # face's edge count: 60 % of a ring gear's export) are for its own file writer; the model is
+    # written by the STEP writer that one calls, giving the same bytes
+    if writer.Transfer(shape, occ.STEPControl_StepModelType.STEPControl_AsIs, False) != occ.IFSelect_RetDone:
         raise ExportError(f"cannot write the STEP of {name}: OpenCASCADE refused the solid")
     _fixed_header(occ, writer, name)
-    with tempfile.TemporaryDirectory(prefix="transplanter-step-") as d:
-        path = os.path.join(d, "part.step")
-        if writer.Write(path) != occ.IFSelect_RetDone:
-            raise ExportError(f"cannot write the STEP of {name}")
-        with open(path, "rb") as f:
-            data = f.read()
+    out = occ.StepData_StepWriter(writer.Model())
+    out.SendModel(writer.WS().Protocol())
+    buffer = io.BytesIO()
+    if not out.Print(buffer):
+        raise ExportError(f"cannot write the STEP of {name}")
+    data = buffer.getvalue()
     # the writer numbers its products per process ('... translator 8.0 3'): name the part instead
     return re.sub(rb"PRODUCT\('[^']*',\s*'[^']*'", b"PRODUCT('%s','%s'" % (name.encode(), name.encode()), data, count=1)
 
 
-#: OpenCASCADE's import repairs self-intersecting wires and re-orients a face's wires with searches
-#: that grow with the square of a face's edge count (minutes for a ring gear's 5800-face solid),
-#: and re-fits every edge's parameters to its face (a fifth of the rest); checking a file must
-#: see what it holds, not a repaired version, so these repairs are off
+#: OpenCASCADE's import repairs self-intersecting wires, wires crossing each other on a face and
+#: re-orients a face's wires with searches that grow with the square of a face's edge count
+#: (minutes for a ring gear's 5800-face solid; the crossing-wires search alone was 40 % of its
+#: 10 s re-read), and re-fits every edge's parameters to its face (a fifth of the rest); checking
+#: a file must see what it holds, not a repaired version, so these repairs are off
 #: ("0": do not perform) — the solid's validity is then asked of ``BRepCheck_Analyzer`` or the
 #: closed-shell check (:func:`solid_report`), and a wrongly oriented hole shows in the volume.
 #: (The wire repair that derives each edge's 2D curve on its face stays on: the files carry none.)
 READ_REPAIR = {
     "FixShape.FixSelfIntersectionMode": "0",
+    "FixShape.FixIntersectingWiresMode": "0",
     "FixShape.FixOrientationMode": "0",
     "FixShape.FixSameParameterMode": "0",
 }
