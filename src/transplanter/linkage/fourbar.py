@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import enum
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -124,6 +124,12 @@ class FourBarMotion:
     theta: dict[Link, np.ndarray]
     omega: dict[Link, np.ndarray]
     alpha: dict[Link, np.ndarray]
+    #: ``exp(i theta)`` of the moving links, as :meth:`FourBar.solve` found them (saves the trig)
+    unit: dict[Link, np.ndarray] = field(default_factory=dict, repr=False, compare=False)
+
+    def _unit(self, link: Link) -> np.ndarray:
+        found = self.unit.get(link)
+        return np.exp(1j * self.theta[link]) if found is None else found
 
     @property
     def crank_angle(self) -> np.ndarray:
@@ -139,10 +145,9 @@ class FourBarMotion:
             return zero + o2, zero, zero
         if link is Link.ROCKER:
             return zero + complex(*fb.rocker_pivot), zero, zero
-        t2 = self.theta[Link.CRANK]
         w2 = self.omega[Link.CRANK]
         a2 = self.alpha[Link.CRANK]
-        e2 = np.exp(1j * t2)
+        e2 = self._unit(Link.CRANK)
         return o2 + fb.crank * e2, fb.crank * 1j * w2 * e2, fb.crank * (1j * a2 - w2**2) * e2
 
     def point(self, link: Link, local: tuple[float, float] | np.ndarray) -> PointMotion:
@@ -153,7 +158,7 @@ class FourBarMotion:
         """
         u, v = (float(x) for x in np.asarray(local, dtype=float).reshape(2))
         p0, v0, a0 = self._frame(link)
-        r = (u + 1j * v) * np.exp(1j * self.theta[link])
+        r = (u + 1j * v) * self._unit(link)
         w = self.omega[link]
         al = self.alpha[link]
         return PointMotion(
@@ -341,28 +346,32 @@ class FourBar:
                 f"distance B-O4 must lie strictly within [|coupler - rocker|, coupler + rocker] = "
                 f"[{abs(self.coupler - self.rocker):.6g}, {self.coupler + self.rocker:.6g}] mm"
             )
-        t3 = np.angle(bd) + self.branch * np.arccos(cos_g)
-        c = b + self.coupler * np.exp(1j * t3)
-        t4 = np.angle(c - o4)
+        # the coupler's direction: B->O4 turned by +-gamma (cos gamma from the triangle B-C-O4),
+        # as a unit phasor — no arccos and exp; C and the rocker's phasor follow
+        e3 = bd / s * (cos_g + 1j * (self.branch * np.sqrt(1.0 - cos_g * cos_g)))
+        c = b + self.coupler * e3
+        e4 = (c - o4) / self.rocker
+        t3, t4 = np.angle(e3), np.angle(e4)
 
-        sin34 = np.sin(t3 - t4)  # non-zero away from toggles (checked above)
-        w3, w4 = self._solve_dyad(-self.crank * w2 * e2, t3, t4, sin34)
-        rhs = -self.crank * (1j * a2 - w2**2) * e2 + self.coupler * w3**2 * np.exp(1j * t3)
-        rhs = rhs - self.rocker * w4**2 * np.exp(1j * t4)
-        al3, al4 = self._solve_dyad(-1j * rhs, t3, t4, sin34)
+        sin34 = (e3 * e4.conjugate()).imag  # sin(t3 - t4), non-zero away from toggles (checked above)
+        w3, w4 = self._solve_dyad(-self.crank * w2 * e2, e3, e4, sin34)
+        rhs = -self.crank * (1j * a2 - w2**2) * e2 + self.coupler * w3**2 * e3 - self.rocker * w4**2 * e4
+        al3, al4 = self._solve_dyad(-1j * rhs, e3, e4, sin34)
 
         zeros = np.zeros_like(t2)
         theta = {Link.GROUND: zeros + self.ground_angle, Link.CRANK: t2, Link.COUPLER: t3, Link.ROCKER: t4}
         omega = {Link.GROUND: zeros, Link.CRANK: w2, Link.COUPLER: w3, Link.ROCKER: w4}
         alpha = {Link.GROUND: zeros, Link.CRANK: a2, Link.COUPLER: al3, Link.ROCKER: al4}
-        return FourBarMotion(linkage=self, theta=theta, omega=omega, alpha=alpha)
+        unit = {Link.CRANK: e2, Link.COUPLER: e3, Link.ROCKER: e4}
+        return FourBarMotion(linkage=self, theta=theta, omega=omega, alpha=alpha, unit=unit)
 
     def _solve_dyad(
-        self, w: np.ndarray, t3: np.ndarray, t4: np.ndarray, sin34: np.ndarray
+        self, w: np.ndarray, e3: np.ndarray, e4: np.ndarray, sin34: np.ndarray
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Solve ``coupler*x*e(t3) - rocker*y*e(t4) = w`` for real x, y (Cramer's rule)."""
-        x = np.imag(w * np.exp(-1j * t4)) / (self.coupler * sin34)
-        y = np.imag(w * np.exp(-1j * t3)) / (self.rocker * sin34)
+        """Solve ``coupler*x*e3 - rocker*y*e4 = w`` for real x, y (Cramer's rule; ``e3``, ``e4``
+        the unit phasors of the coupler and the rocker)."""
+        x = (w * e4.conjugate()).imag / (self.coupler * sin34)
+        y = (w * e3.conjugate()).imag / (self.rocker * sin34)
         return x, y
 
     def transmission_angle(self, motion: FourBarMotion) -> np.ndarray:
