@@ -86,11 +86,6 @@ class MadePart:
         """The section's contours as the DXF's one-sided arcs (``dxf.section_arcs``)."""
         return dxf.section_arcs(self.section)
 
-    @cached_property
-    def step_solid(self):
-        """The OCC solid of the STEP (``step.prism`` of :attr:`arcs`), built once."""
-        return step.prism(self.arcs, self.width)
-
     @property
     def volume(self) -> float:
         """Section area × width, mm³: what the STL must enclose."""
@@ -206,7 +201,18 @@ class Step:
     suffix = ".step"
 
     def write(self, part: MadePart) -> bytes:
-        return step.step_bytes(part.stem, part.step_solid)
+        return self.write_checked(part)[0]
+
+    def write_checked(self, part: MadePart) -> tuple[bytes, dict]:
+        """The file and the check of the solid it was written from: one solid, of the arcs'
+        volume (the build's check; the file's validity is checked on re-reading it, see the
+        module docstring). The OpenCASCADE solid is built once and released afterwards."""
+        with step.released_memory():
+            solid = step.prism(part.arcs, part.width)
+            data = step.step_bytes(part.stem, solid)
+            report = self.report(solid, self.expected_volume(part), part.stem, check=False)
+            del solid
+        return data, report | {"reread": False}
 
     def read(self, data: bytes):
         """The OCC shape (``step.read_step``)."""
@@ -235,11 +241,6 @@ class Step:
         contours = read_shop_file(f"{stem}.dxf", dxf_data, dxf.bulge_contours)
         shape = read_shop_file(f"{stem}.step", data, self.read)
         return self.report(shape, step.arcs_area(contours) * width, stem) | {"reread": True}
-
-    def verify_written(self, part: MadePart) -> dict:
-        """The solid this format writes for ``part``: one, of the arcs' volume (the build's check;
-        the file's validity is checked on re-reading it, see the module docstring)."""
-        return self.report(part.step_solid, self.expected_volume(part), part.stem, check=False) | {"reread": False}
 
 
 @dataclass(frozen=True)

@@ -79,9 +79,12 @@ def manufacture(
     files: dict[str, bytes] = {}
     shop = (formats.STL, *(formats.Dxf(v) for v in making.dxf_versions), *((formats.STEP,) if making.step else ()))
     for fmt in shop:
-        data = fmt.write(made)
         key = "stl" if fmt is formats.STL else "step" if fmt is formats.STEP else f"dxf_{fmt.version}"
-        results[key] = formats.STEP.verify_written(made) if fmt is formats.STEP else fmt.verify(made, data)
+        if fmt is formats.STEP:
+            data, results[key] = fmt.write_checked(made)
+        else:
+            data = fmt.write(made)
+            results[key] = fmt.verify(made, data)
         files[f"{stem}{fmt.suffix}"] = data
     return results, files, made
 
