@@ -1,4 +1,4 @@
-"""Command line: ``transplanter build`` and ``transplanter analyse``.
+"""Command line: ``transplanter build``, ``analyse``, ``optimise``, ``check`` and ``pair``.
 
 ``transplanter build`` with no arguments builds every part script in ``./parts`` into
 ``./exports/<family>/``; ``transplanter build parts/x.py -o DIR --jobs N`` builds the named scripts,
@@ -12,8 +12,11 @@ re-runs the meshing and follower checks on the files already on disk, recomputes
 compares their data files, and verifies every file's SHA-256 against the manifest; it exits 1 if a
 part that must mesh does not, or a file is missing, changed or stale. Exit status: 0 on success, 1
 if any part failed or a file could not be written (disk full, permissions, another build writing the
-same folder), 2 on bad input (message on stderr). ``transplanter --version`` prints the version;
-``python -m transplanter`` is the same command.
+same folder), 2 on bad input (message on stderr). ``transplanter pair "phi - 0.08*sin(2*phi)" --teeth 24
+--module 1.5 -o DIR`` makes one gear pair from its transmission (an expression in phi, a ratio CSV or
+a named curve such as ``ellipse:0.15:2``; ``--internal`` for a ring and planet) into ``DIR/pair/``:
+shop files, meshing proof on them, report (:mod:`transplanter.families.gear_pair`).
+``transplanter --version`` prints the version; ``python -m transplanter`` is the same command.
 """
 
 from __future__ import annotations
@@ -180,13 +183,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
                 if "error" in r:  # an unreadable file: reported with the problems below
                     continue
                 if "max_penetration_mm2" in r:
-                    line = (
-                        f"overlap {r['max_penetration_mm2']:.3g} mm² (fouling {r['max_fouling_mm2']:.3g}), "
-                        f"TE max {_fmt_um(r['max_transmission_error_mm'])} "
-                        f"rms {_fmt_um(r['rms_transmission_error_mm'])}, "
-                        f"backlash {_fmt_um(r['backlash_mm'][0])}..{_fmt_um(r['backlash_mm'][1])}, "
-                        f"contact ratio {r['contact_ratio']:.3g}"
-                    )
+                    line = _mesh_line(r)
                     if "train" in r:
                         line += f", train tip deviation {_fmt_um(r['train']['max_tip_deviation_mm'])}"
                 elif "max_error_mm" in r:
@@ -205,6 +202,53 @@ def _cmd_check(args: argparse.Namespace) -> int:
         print(f"  {'ok' if rep['ok'] else 'FAILED'}")
         ok = ok and rep["ok"]
     return 0 if ok else 1
+
+
+def _mesh_line(r: dict) -> str:
+    """One source's meshing check (``validate.mesh_check`` figures), in words."""
+    return (
+        f"overlap {r['max_penetration_mm2']:.3g} mm² (fouling {r['max_fouling_mm2']:.3g}), "
+        f"TE max {_fmt_um(r['max_transmission_error_mm'])} "
+        f"rms {_fmt_um(r['rms_transmission_error_mm'])}, "
+        f"backlash {_fmt_um(r['backlash_mm'][0])}..{_fmt_um(r['backlash_mm'][1])}, "
+        f"contact ratio {r['contact_ratio']:.3g}"
+    )
+
+
+def _cmd_pair(args: argparse.Namespace) -> int:
+    from transplanter.families.gear_pair import gear_pair
+
+    manifest = gear_pair(
+        args.transmission,
+        args.output,
+        internal=args.internal,
+        teeth=args.teeth,
+        module=args.module,
+        centre_distance=args.centre_distance,
+        driven_lobes=args.driven_lobes,
+        ring=args.ring,
+        backlash=args.backlash,
+        cutter_teeth=args.cutter_teeth,
+        width=args.width,
+        name=args.name,
+    )
+    folder = Path(args.output) / manifest["family"]
+    print(manifest["description"])
+    rec = manifest["parts"][args.name]
+    if "error" in rec:
+        print(f"FAILED -> {folder}\n  error: {rec['error']}", file=sys.stderr)
+        return 1
+    asm = rec["results"]["assembly"]
+    print(
+        f"  centre distance {asm['centre_distance_mm']:.6f} mm; driven axis at {asm['driven_centre_mm']} mm in the "
+        f"driver's DXF frame, turned {asm['driven_angle_at_start_deg']:g} deg at the start"
+    )
+    for source, r in sorted((k, v) for k, v in rec["results"]["meshing"].items() if isinstance(v, dict)):
+        print(f"  meshing [{source}]: {_mesh_line(r)}")
+    shop = [f for f in rec["files"] if f.endswith((".dxf", ".stl", ".step", ".3mf"))]
+    print(f"  shop files: {', '.join(shop)}")
+    print(f"ok -> {folder} (report.html)")
+    return 0
 
 
 def _made_line(r: dict) -> str:
@@ -244,6 +288,25 @@ def main(argv: list[str] | None = None) -> int:
     c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
     c.add_argument("folders", nargs="*", help="built family folders, or a folder of them (default: exports)")
     c.add_argument("--script", help="part script (default: the one recorded in the manifest)")
+    p = sub.add_parser(
+        "pair",
+        help="one gear pair from a transmission ratio: shop files, meshing proof and report",
+        description="A gear pair from its transmission: an expression in phi (the driven angle, rad, "
+        'e.g. "phi - 0.08*sin(2*phi)"), a CSV of ratio samples (driver angle deg, w2/w1), or a named '
+        "driver curve (ellipse:E[:LOBES], eccentric:E). Give two of --teeth, --module, --centre-distance.",
+    )
+    p.add_argument("transmission", help="expression in phi, ratio CSV file, or NAME:PARAMS")
+    p.add_argument("--teeth", type=int, help="driver tooth count")
+    p.add_argument("--module", type=float, help="module, mm")
+    p.add_argument("--centre-distance", type=float, help="centre distance, mm")
+    p.add_argument("--internal", action="store_true", help="an internal pair (ring gear and planet)")
+    p.add_argument("--ring", choices=("driven", "driver"), default="driven", help="internal, from a ratio: the ring")
+    p.add_argument("--driven-lobes", type=int, help="named curves: lobes of the mate")
+    p.add_argument("--backlash", type=float, help="circumferential backlash, mm (default: ISO/TR 10064-2)")
+    p.add_argument("--cutter-teeth", type=int, help="shaper cutter teeth (default: the first of 12..24 that cuts)")
+    p.add_argument("--width", type=float, default=10.0, help="face width, mm (default 10)")
+    p.add_argument("--name", default="pair", help="folder and part name (default: pair)")
+    p.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")
     args = parser.parse_args(argv)
     try:
         if args.command == "build":
@@ -256,6 +319,8 @@ def main(argv: list[str] | None = None) -> int:
             return _cmd_optimise(args)
         if args.command == "check":
             return _cmd_check(args)
+        if args.command == "pair":
+            return _cmd_pair(args)
         return _cmd_analyse(args)
     except ExportError as exc:  # the input was fine; the files could not be written
         print(f"transplanter: error: {exc}", file=sys.stderr)

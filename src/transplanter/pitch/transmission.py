@@ -1,0 +1,261 @@
+"""A pitch-curve pair from what a designer states: a transmission function, ratio samples, or a named curve.
+
+Three ways in, one way out (a :class:`~transplanter.pitch.GearPair`):
+
+* an **expression in φ** (``phi``, rad): the transmission function ψ(φ), the driven gear's
+  angle as the driver turns — the convention of the peers (``ncgears "phi - 0.08*sin(2*phi)"``).
+  Its ratio ω2/ω1 = ψ'(φ) is taken exactly, as a Fourier series of ψ's periodic part
+  (:func:`ratio_from_expression`); allowed are numbers, ``+ - * / **``, ``pi``, ``e`` and
+  ``sin cos tan exp log sqrt abs arctan sinh cosh tanh``;
+* **samples** of the ratio: a CSV with a header and two columns, the driver angle in degrees
+  over one turn and ω2/ω1 (:func:`ratio_from_csv`; a periodic cubic spline through them);
+* a **named driver curve** ``ellipse:E[:LOBES]`` (Litvin's n-lobed ellipse of eccentricity E,
+  or an ellipse about its focus for one lobe) or ``eccentric:E`` (a circle turning about a
+  point E radii from its centre), whose conjugate is found with ``driven_lobes`` lobes.
+
+A ratio that does not close a whole number of driven lobes per driver turn — samples never
+quite do — is scaled by the factor that closes the nearest number, and :class:`Transmission`
+says by how much (``closure_scale``); the pair's own closure is then within 1e-9 rad.
+
+Examples
+--------
+>>> t = transmission("phi - 0.08*sin(2*phi)")
+>>> t.pair.lobes, round(float(t.pair.ratio(0.0)), 12), t.closure_scale
+((2, 2), 0.84, 1.0)
+>>> transmission("ellipse:0.1:3", mesh="internal", driven_lobes=4).pair.lobes
+(3, 4)
+"""
+
+from __future__ import annotations
+
+import ast
+import io
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from transplanter.errors import SpecError, check_int, check_number, finite_positive
+from transplanter.pitch.curve import PitchCurve
+from transplanter.pitch.pair import GearPair, Mesh, _mesh
+from transplanter.pitch.periodic import Constant, FourierSeries, Periodic, PeriodicIntegral, PeriodicSpline
+
+__all__ = ["Transmission", "transmission", "ratio_from_expression", "ratio_from_csv", "NAMED_CURVES"]
+
+#: the named driver curves and what their parameter means
+NAMED_CURVES = {
+    "ellipse": "ellipse:E[:LOBES] — n-lobed ellipse p/(1 - E cos nφ), 0 <= E < 1",
+    "eccentric": "eccentric:E — circle turning about a point E radii off its centre, 0 <= E < 1",
+}
+
+#: samples of ψ over one driver turn for its Fourier series: harmonics up to a quarter of them
+#: must have died out to round-off (``SPECTRAL_TAIL``) or the expression is not smooth enough
+SAMPLES = 4096
+SPECTRAL_TAIL = 1e-11
+
+#: the size the curves are built at before the pair is sized by teeth and module (mm): any
+#: value works, sizing scales the pair
+NOMINAL_CENTRE_DISTANCE = 100.0
+
+_FUNCTIONS = {
+    name: getattr(np, name)
+    for name in ("sin", "cos", "tan", "exp", "log", "sqrt", "abs", "arctan", "sinh", "cosh", "tanh")
+}
+_CONSTANTS = {"pi": math.pi, "e": math.e}
+_ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Load)
+_ALLOWED += (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
+
+
+def _compile(expr: str):
+    """The expression as a function of φ (numpy arrays), or SpecError naming what is not allowed."""
+    if not isinstance(expr, str) or not expr.strip():
+        raise SpecError(f"the transmission function must be an expression in phi, got {expr!r}")
+    try:
+        tree = ast.parse(expr.strip(), mode="eval")
+    except SyntaxError as exc:
+        raise SpecError(f"the transmission function {expr!r} is not an expression: {exc.msg}") from exc
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Name):
+            if node.id != "phi" and node.id not in _FUNCTIONS and node.id not in _CONSTANTS:
+                raise SpecError(
+                    f"the transmission function {expr!r} uses {node.id!r}: only phi, pi, e and "
+                    f"{', '.join(_FUNCTIONS)} are allowed"
+                )
+        elif isinstance(node, ast.Call):
+            if not isinstance(node.func, ast.Name) or node.func.id not in _FUNCTIONS or node.keywords:
+                allowed = ", ".join(_FUNCTIONS)
+                raise SpecError(f"the transmission function {expr!r} calls something other than {allowed}")
+        elif isinstance(node, ast.Constant):
+            if not isinstance(node.value, int | float) or isinstance(node.value, bool):
+                raise SpecError(f"the transmission function {expr!r} holds {node.value!r}: only numbers are allowed")
+        elif not isinstance(node, _ALLOWED):
+            what = type(node).__name__
+            raise SpecError(f"the transmission function {expr!r} uses {what}: only arithmetic is allowed")
+    code = compile(tree, "<transmission>", "eval")
+
+    def psi(phi: np.ndarray) -> np.ndarray:
+        with np.errstate(all="ignore"):
+            out = eval(code, {"__builtins__": {}}, {"phi": phi, **_FUNCTIONS, **_CONSTANTS})  # noqa: S307 - checked AST
+        return np.broadcast_to(np.asarray(out, dtype=float), np.shape(phi))
+
+    return psi
+
+
+def ratio_from_expression(expr: str) -> Periodic:
+    """ω2/ω1 = ψ'(φ) of the transmission function ``expr`` (see the module docstring), exactly: ψ's
+    secular part T φ / 2π plus the derivative of the Fourier series of the rest."""
+    psi = _compile(expr)
+    phi = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
+    values = psi(phi)
+    end = float(psi(np.array([2 * math.pi]))[0])
+    if not (np.all(np.isfinite(values)) and math.isfinite(end)):
+        bad = float(np.degrees(phi[np.argmax(~np.isfinite(values))])) if not np.all(np.isfinite(values)) else 360.0
+        raise SpecError(f"the transmission function {expr!r} is not finite at phi = {bad:g} deg")
+    turn = end - float(values[0])  # what the driven gear turns per driver turn, rad
+    if turn <= 0:
+        raise SpecError.out_of_range(f"psi(2 pi) - psi(0) of {expr!r}", turn, "> 0 rad (the driven gear turns on)")
+    c = np.fft.rfft(values - turn * phi / (2 * math.pi)) / SAMPLES
+    a, b = 2 * c.real[1:], -2 * c.imag[1:]
+    size = max(float(np.max(np.abs(c[1:]))), turn)
+    tail = float(np.max(np.abs(c[SAMPLES // 4 :])))
+    if tail > SPECTRAL_TAIL * size:
+        raise SpecError(
+            f"the transmission function {expr!r} is not smooth and periodic over a driver turn (its Fourier "
+            f"series has not converged at {SAMPLES // 4} harmonics: {tail:.2g}); psi(phi) - psi(0) must be a "
+            "smooth function of phi plus (psi(2 pi) - psi(0)) phi / 2 pi"
+        )
+    k = np.arange(1, len(a) + 1)
+    keep = np.flatnonzero(np.hypot(a, b) > SPECTRAL_TAIL * size)
+    mean = turn / (2 * math.pi)
+    if not keep.size:
+        return Constant(mean)
+    lobes = int(np.gcd.reduce(k[keep]))
+    top = int(k[keep].max())
+    harmonics = np.arange(lobes, top + 1, lobes)
+    # d/dφ (a_j cos jφ + b_j sin jφ) = j b_j cos jφ - j a_j sin jφ
+    return FourierSeries(mean, harmonics * b[harmonics - 1], -harmonics * a[harmonics - 1], lobes=lobes)
+
+
+def ratio_from_csv(data: bytes) -> Periodic:
+    """ω2/ω1 from a CSV of samples over one driver turn: a header row, then driver angle (deg,
+    increasing within [0, 360)) and ratio per row; a periodic cubic spline through them."""
+    try:
+        table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1, ndmin=2)
+    except ValueError as exc:
+        raise SpecError(f"the ratio CSV cannot be read as numbers (header, then 'phi_deg, ratio' rows): {exc}") from exc
+    if table.shape[1] != 2 or len(table) < 8:
+        raise SpecError(
+            f"the ratio CSV has {table.shape[1]} columns and {len(table)} rows: it needs 2 columns (driver angle "
+            "in deg, ratio) and at least 8 rows over one driver turn"
+        )
+    deg, ratio = table[:, 0], table[:, 1]
+    if not (np.all(np.isfinite(table)) and np.all(np.diff(deg) > 0) and deg[0] >= 0 and deg[-1] < 360):
+        raise SpecError("the ratio CSV's driver angles must be finite and increase within [0, 360) deg")
+    if np.any(ratio <= 0):
+        i = int(np.argmax(ratio <= 0))
+        raise SpecError.out_of_range(f"ratio at {deg[i]:g} deg", float(ratio[i]), "> 0")
+    return PeriodicSpline(np.radians(deg), ratio, period=2 * math.pi)
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """The pair a spec gives (at ``NOMINAL_CENTRE_DISTANCE``), what the spec was, and the factor
+    its ratio was scaled by to close a whole number of driven lobes (1.0: it closed as given)."""
+
+    pair: GearPair
+    spec: str
+    closure_scale: float = 1.0
+
+
+def _closing(ratio: Periodic) -> tuple[Periodic, float]:
+    """``ratio`` scaled to close the nearest whole number of driven lobes per driver lobe."""
+    turn = PeriodicIntegral(ratio, ratio.period, ratio.breakpoints).total
+    lobes = max(1, round(2 * math.pi / turn))
+    scale = 2 * math.pi / lobes / turn
+    if abs(scale - 1) < 1e-12:
+        return ratio, 1.0
+    if isinstance(ratio, Constant):
+        return Constant(ratio.value * scale), scale
+    if isinstance(ratio, FourierSeries):
+        a, b = np.array(ratio.a) * scale, np.array(ratio.b) * scale
+        return FourierSeries(ratio.a0 * scale, a, b, lobes=ratio.lobes_), scale
+    return PeriodicSpline(ratio.angles, ratio.values * scale, period=ratio.period), scale
+
+
+def _named(spec: str, mesh: Mesh, driven_lobes: int | None) -> GearPair:
+    name, _, rest = spec.partition(":")
+    args = rest.split(":") if rest else []
+    if name not in NAMED_CURVES:
+        raise SpecError(f"unknown curve {name!r}: the named curves are " + "; ".join(NAMED_CURVES.values()))
+    try:
+        numbers = [float(x) for x in args]
+    except ValueError as exc:
+        raise SpecError(f"{spec!r}: the curve's parameters must be numbers ({NAMED_CURVES[name]})") from exc
+    if not numbers or len(numbers) > (2 if name == "ellipse" else 1):
+        raise SpecError(f"{spec!r} does not match {NAMED_CURVES[name]}")
+    e = check_number(f"{name} eccentricity E", numbers[0], 0.0, 1.0, high_open=True)
+    if name == "ellipse":
+        lobes = numbers[1] if len(numbers) > 1 else 1
+        if lobes != int(lobes):
+            raise SpecError.out_of_range("ellipse LOBES", lobes, "a whole number >= 1")
+        driver = PitchCurve.ellipse(1.0, e, int(lobes))
+    else:
+        driver = PitchCurve.eccentric_circle(1.0, e)
+    n1 = driver.lobes
+    n2 = driven_lobes if driven_lobes is not None else (n1 if mesh is Mesh.EXTERNAL else n1 + 1)
+    n2 = check_int("driven_lobes", n2, 1, 100)
+    pair = GearPair.from_driver(driver, mesh, n2)
+    return pair.scaled(NOMINAL_CENTRE_DISTANCE / pair.centre_distance)
+
+
+def transmission(
+    spec: str, mesh: Mesh | str = Mesh.EXTERNAL, *, driven_lobes: int | None = None, ring: str = "driven"
+) -> Transmission:
+    """The pitch pair of ``spec`` (see the module docstring): an expression in ``phi``, the path of
+    a ratio CSV (``*.csv``), or a named curve ``NAME:PARAMS``.
+
+    ``mesh`` is ``"external"`` or ``"internal"``; internal pairs from a ratio have the ring as
+    ``ring`` (``"driven"``: ratio < 1, or ``"driver"``); a named curve is the driver (the planet
+    of an internal pair) and its mate has ``driven_lobes`` lobes (default: as many for an
+    external pair, one more for a ring).
+    """
+    mesh = _mesh(mesh)
+    if not isinstance(spec, str) or not spec.strip():
+        raise SpecError(f"the transmission must be an expression in phi, a CSV file or a named curve, got {spec!r}")
+    spec = spec.strip()
+    head = spec.partition(":")[0]
+    if head in NAMED_CURVES or (":" in spec and head.isidentifier()):
+        return Transmission(_named(spec, mesh, driven_lobes), spec)
+    if driven_lobes is not None:
+        raise SpecError("driven_lobes is for named curves: a ratio fixes the driven gear's lobes itself")
+    if spec.lower().endswith(".csv"):
+        try:
+            with open(spec, "rb") as f:
+                ratio = ratio_from_csv(f.read())
+        except OSError as exc:
+            raise SpecError(f"the ratio CSV {spec!r} cannot be read: {exc.strerror}") from exc
+    else:
+        ratio = ratio_from_expression(spec)
+    ratio, scale = _closing(ratio)
+    pair = GearPair.from_ratio(ratio, NOMINAL_CENTRE_DISTANCE, mesh, ring=ring)
+    return Transmission(pair, spec, scale)
+
+
+def size_pair(pair: GearPair, teeth: int | None, module: float | None, centre_distance: float | None):
+    """The pair sized by two of driver ``teeth``, ``module`` (mm) and ``centre_distance`` (mm);
+    returns ``(pair, sizing)`` as :meth:`GearPair.sized`."""
+    given = [v is not None for v in (teeth, module, centre_distance)]
+    if sum(given) != 2:
+        raise SpecError(
+            "give two of teeth, module and centre distance (teeth and module fix the size; with the centre "
+            "distance, the other follows)"
+        )
+    if centre_distance is not None:
+        pair = pair.scaled(finite_positive("centre distance", centre_distance) / pair.centre_distance)
+        return pair.sized(teeth=teeth) if teeth is not None else pair.sized(module=module)
+    n1 = pair.lobes[0]
+    if not isinstance(teeth, int) or teeth < n1 or teeth % n1:
+        raise SpecError.out_of_range("teeth", teeth, f"a positive multiple of the driver's {n1} lobes")
+    m = finite_positive("module", module)
+    pair = pair.scaled(teeth * math.pi * m / pair.driver.perimeter)
+    return pair.sized(teeth=teeth)

@@ -1,0 +1,106 @@
+"""One call for a gear pair (``transplanter pair``): spec parsing, and pairs made and proved from the CLI."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from transplanter import cli
+from transplanter.errors import SpecError
+from transplanter.pitch.transmission import ratio_from_expression, size_pair, transmission
+
+
+def _files(folder):
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file() and p.name != "manifest.json"}
+
+
+def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys):
+    assert cli.main(["pair", "ellipse:0.15:2", "--teeth", "24", "--module", "2", "-o", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "24/24 teeth, m = 2 mm" in out and "ok ->" in out
+    folder = tmp_path / "pair"
+    manifest = json.loads((folder / "manifest.json").read_text())
+    rec = manifest["parts"]["pair"]
+    for ext in (".dxf", ".stl", ".step"):
+        assert {f"pair.driver{ext}", f"pair.driven{ext}"} <= set(rec["files"])
+    assert "pair.assembly.3mf" in rec["files"]
+    # the proof, re-run on the files as a shop receives them
+    assert cli.main(["check", str(folder)]) == 0
+    check = capsys.readouterr().out
+    for source in ("dxf", "stl"):
+        line = next(x for x in check.splitlines() if f"pair [{source}]: " in x)
+        assert "overlap 0 mm² (fouling 0)" in line
+    mesh = rec["results"]["meshing"]["dxf"]
+    low, high = rec["results"]["meshing"]["backlash_band_mm"]
+    assert low <= mesh["backlash_mm"][0] and mesh["backlash_mm"][1] <= high and mesh["contact_ratio"] > 1
+    # the part script left beside the folder states the call; rebuilding it gives the same files
+    script = tmp_path / "pair.py"
+    assert "pair_family(" in script.read_text() and "'ellipse:0.15:2'" in script.read_text()
+    again = tmp_path / "again"
+    assert cli.main(["build", str(script), "-o", str(again)]) == 0
+    assert _files(again / "pair") == _files(folder)
+
+
+def test_a_four_lobed_ring_and_its_planet_from_the_cli(tmp_path, capsys):
+    args = ["pair", "ellipse:0.05:2", "--internal", "--driven-lobes", "4", "--teeth", "24", "--module", "1.5"]
+    assert cli.main([*args, "-o", str(tmp_path)]) == 0
+    assert "internal pair of 'ellipse:0.05:2': 24/48 teeth" in capsys.readouterr().out
+    manifest = json.loads((tmp_path / "pair" / "manifest.json").read_text())
+    asm = manifest["parts"]["pair"]["results"]["assembly"]
+    assert asm["kind"] == "internal" and asm["ring"] == "driven" and asm["teeth"] == [24, 48]
+    assert asm["model"]["max_overlap_mm3"] == 0.0
+    assert cli.main(["check", str(tmp_path / "pair")]) == 0
+    check = capsys.readouterr().out
+    assert "pair [dxf]: overlap 0 mm² (fouling 0)" in check and "pair [stl]: overlap 0 mm² (fouling 0)" in check
+
+
+def test_the_ratio_of_a_transmission_function_is_its_exact_derivative():
+    ratio = ratio_from_expression("phi - 0.08*sin(2*phi)")
+    phi = np.linspace(0, 2 * math.pi, 1001)
+    assert ratio.lobes == 2
+    assert np.max(np.abs(ratio(phi) - (1 - 0.16 * np.cos(2 * phi)))) < 1e-12
+    pair = transmission("0.5*phi + 0.03*sin(phi)").pair  # one driver turn turns the driven half a turn
+    assert pair.lobes == (1, 2) and pair.closure_error < 1e-9
+    assert abs(float(pair.ratio(0.0)) - 0.53) < 1e-12
+
+
+def test_ratio_samples_are_scaled_to_close_and_say_by_how_much(tmp_path):
+    deg = np.arange(0, 360, 5.0)
+    csv = tmp_path / "ratio.csv"
+    rows = "\n".join(f"{d:g},{1.001 * (1 + 0.1 * math.cos(math.radians(d))):.12f}" for d in deg)
+    csv.write_text("phi_deg,ratio\n" + rows + "\n")
+    found = transmission(str(csv))
+    assert abs(found.closure_scale * 1.001 - 1) < 1e-4  # the samples' mean was 1.001
+    assert found.pair.lobes == (1, 1) and found.pair.closure_error < 1e-9
+    pair, sizing = size_pair(found.pair, 30, 2.0, None)
+    assert sizing.teeth == (30, 30) and abs(pair.driver.perimeter - 30 * math.pi * 2.0) < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("spec", "message"),
+    [
+        ("phi +", "not an expression"),
+        ("__import__('os')", "calls something other than"),
+        ("phi * x", "uses 'x'"),
+        ("phi.real", "uses Attribute"),
+        ("-phi", "the driven gear turns on"),
+        ("sqrt(phi) + phi", "not smooth and periodic"),
+        ("ellipse:1.2", "ellipse eccentricity E = 1.2"),
+        ("ellipse:0.1:2.5", "ellipse LOBES = 2.5"),
+        ("hyperbola:1", "unknown curve 'hyperbola'"),
+        ("missing.csv", "cannot be read"),
+    ],
+)
+def test_a_bad_transmission_names_the_problem(spec, message):
+    with pytest.raises(SpecError) as err:
+        transmission(spec)
+    assert message in str(err.value)
+
+
+def test_the_cli_refuses_bad_input_with_exit_2_and_writes_nothing(tmp_path, capsys):
+    assert cli.main(["pair", "phi - 0.08*sin(2*phi)", "--teeth", "24", "-o", str(tmp_path)]) == 2
+    assert "give two of teeth, module and centre distance" in capsys.readouterr().err
+    assert cli.main(["pair", "phi - 0.08*sin(2*phi)", "--teeth", "25", "--module", "1.5", "-o", str(tmp_path)]) == 2
+    assert "multiple of the driver's 2 lobes" in capsys.readouterr().err
+    assert list(tmp_path.iterdir()) == []
