@@ -72,29 +72,25 @@ def _cmd_build(args: argparse.Namespace) -> int:
 
 def _cmd_analyse(args: argparse.Namespace) -> int:
     from transplanter.export import atomic_write
-    from transplanter.families import ArmStudy, PlanetaryStudy, load_family
+    from transplanter.families import load_family
 
     fam = load_family(args.script)
-    arms = [p for p in fam.parts if isinstance(p, ArmStudy)]
-    trains = [p for p in fam.parts if isinstance(p, PlanetaryStudy)]
-    if not arms and not trains:
-        print(f"{args.script}: family {fam.name!r} has no planting arms or trains to analyse", file=sys.stderr)
+    tables = [(study, table) for study in fam.parts for table in study.tables()]
+    if not tables:
+        print(f"{args.script}: family {fam.name!r} has no study with a table to analyse", file=sys.stderr)
         return 2
-    for study in trains:
-        m = study.metrics()
-        ref = {q: v for q, v, _ in study.reference}
-        print(f"\n{fam.name} / {study.name}  (planetary, {study.train.planets} arms)")
-        print(f"  {'quantity':40s} {'value':>12s} {'published':>10s}")
-        for label, value, unit in m.table():
-            pub = f"{ref[label]:10.2f}" if label in ref else " " * 10
-            print(f"  {label:40s} {value:12.4f} {pub} {unit}")
-    for study in arms:
-        m = study.arm.metrics(planting_depth=study.planting_depth)
-        print(f"\n{fam.name} / {study.name}  ({study.arm.linkage.grashof_class().value})")
-        for label, value, unit in m.table():
-            print(f"  {label:34s} {value:12.4f} {unit}")
-        if args.plots:
-            for fname, data in study.plot_files(m).items():
+    for _, table in tables:
+        published = any(pub is not None for *_, pub in table.rows)
+        print(f"\n{fam.name} / {table.title}")
+        width = max(34, *(len(label) for label, *_ in table.rows))
+        if published:
+            print(f"  {'quantity':{width}s} {'value':>12s} {'published':>10s}")
+        for label, value, unit, pub in table.rows:
+            ref = (" " * 10 if pub is None else f"{pub:10.2f}") + " " if published else ""
+            print(f"  {label:{width}s} {value:12.4f} {ref}{unit}")
+    if args.plots:
+        for study in fam.parts:
+            for fname, data in study.analysis_files().items():
                 atomic_write(Path(args.plots) / fname, data)
     return 0
 

@@ -2,7 +2,11 @@
 
 One module per kind of study (``linkage``, ``plates``, ``pitch``, ``trains``, ``gears``,
 ``synthesis``, ``cams``), ``making`` for the shop files they share (through
-:mod:`transplanter.formats`), ``build`` for families themselves.
+:mod:`transplanter.formats`), ``build`` for families themselves, ``study`` for what the builder
+asks of a study (the :class:`Study` protocol: ``name``, ``cost``, ``build``, ``check``,
+``tables``, ``analysis_files``; a new kind is a new module and the part script using it), and
+``gear_pair`` for one toothed pair made in one call from a transmission ratio
+(``transplanter pair``).
 
 A part script is a short Python file that defines ``family()`` returning a :class:`Family`
 (like manifold3d's ``examples/*.py`` define ``run()``). The builder loads each script,
@@ -11,8 +15,8 @@ records parameters, results, errors and file hashes in ``<out>/<family>/manifest
 A part that fails leaves the other parts and its own previous files intact; its error goes
 into the manifest and the build reports failure.
 
-Part kinds so far
------------------
+Study kinds so far
+------------------
 ``ArmStudy``
     A four-bar planting arm: seed 000 Table 2 metrics (JSON and CSV), the tip path relative
     to frame and ground, and the speed/acceleration diagrams (PNG and SVG).
@@ -62,15 +66,24 @@ from transplanter.families.build import (
     part_outcome,
 )
 from transplanter.families.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
+from transplanter.families.gear_pair import gear_pair, pair_family
 from transplanter.families.gears import MESH_STEPS, ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
 from transplanter.families.making import Making
 from transplanter.families.pitch import PitchPairStudy
 from transplanter.families.plates import Joint, LinkPlatesStudy
+from transplanter.families.study import Built, Checked, Study, StudyDefaults, Table
 from transplanter.families.synthesis import SynthesisStudy
 from transplanter.families.trains import PlanetaryStudy
 
 __all__ = [
+    "Study",
+    "StudyDefaults",
+    "Built",
+    "Checked",
+    "Table",
+    "gear_pair",
+    "pair_family",
     "ArmStudy",
     "BalancingStudy",
     "LinkPlatesStudy",

@@ -14,13 +14,7 @@ from pathlib import Path
 
 from transplanter.errors import ExportError, PartScriptError, SpecError, TransplanterError
 from transplanter.export import Transaction, interrupted_swap, json_bytes, leftovers
-from transplanter.families.cams import CamStudy
-from transplanter.families.gears import ToothedPairStudy
-from transplanter.families.linkage import ArmStudy, BalancingStudy
-from transplanter.families.pitch import PitchPairStudy
-from transplanter.families.plates import LinkPlatesStudy
-from transplanter.families.synthesis import SynthesisStudy
-from transplanter.families.trains import PlanetaryStudy
+from transplanter.families.study import Built, Checked, Study
 from transplanter.report import family_report
 
 __all__ = [
@@ -44,25 +38,13 @@ def _check_name(kind: str, name: str) -> str:
     return name
 
 
-Part = (
-    ArmStudy
-    | BalancingStudy
-    | LinkPlatesStudy
-    | PitchPairStudy
-    | PlanetaryStudy
-    | ToothedPairStudy
-    | SynthesisStudy
-    | CamStudy
-)
-
-
 @dataclass(frozen=True)
 class Family:
     """A named set of parts defined by one part script."""
 
     name: str
     description: str
-    parts: tuple[Part, ...] = field(default_factory=tuple)
+    parts: tuple[Study, ...] = field(default_factory=tuple)
     #: the part script it came from (set by :func:`load_family`)
     script: str | None = None
 
@@ -71,10 +53,10 @@ class Family:
         object.__setattr__(self, "parts", tuple(self.parts))
         seen: set[str] = set()
         for p in self.parts:
-            if not isinstance(p, Part):
+            if not isinstance(p, Study):
                 raise PartScriptError(
-                    f"family {self.name!r}: parts must be one of ArmStudy, BalancingStudy, LinkPlatesStudy, "
-                    "PitchPairStudy, PlanetaryStudy, ToothedPairStudy, SynthesisStudy, CamStudy; "
+                    f"family {self.name!r}: parts must be studies (transplanter.families.Study: a name, cost, "
+                    f"build, check, tables and analysis_files — e.g. ArmStudy, ToothedPairStudy, CamStudy), "
                     f"got {type(p).__name__}"
                 )
             _check_name("part", p.name)
@@ -150,12 +132,12 @@ def _previous_manifest(root: Path) -> dict:
     return data
 
 
-def part_outcome(part: Part, root: Path) -> tuple[dict, dict[str, bytes]] | str:
-    """Build one part: its (record, files), or the error the manifest records for it — any
-    exception a part raises is its failure (a project error by its message; anything else with
-    its type, as a bug to report)."""
+def part_outcome(part: Study, root: Path) -> Built | str:
+    """Build one part: its :class:`~transplanter.families.study.Built` (record, files), or the
+    error the manifest records for it — any exception a part raises is its failure (a project
+    error by its message; anything else with its type, as a bug to report)."""
     try:
-        return part.build(root)
+        return Built(*part.build(root))
     except TransplanterError as exc:
         return f"{type(exc).__name__}: {exc}"
     except Exception as exc:  # a bug, or a library error that escaped: the part fails, the build goes on
@@ -166,7 +148,7 @@ def build_family(
     family: Family,
     out_dir: str | Path,
     progress: Callable[[str], None] | None = None,
-    outcomes: dict[str, tuple[dict, dict[str, bytes]] | str] | None = None,
+    outcomes: dict[str, Built | str] | None = None,
 ) -> dict:
     """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest.
 
@@ -218,9 +200,6 @@ def build_family(
 #: families being built by :func:`build_families`, inherited by forked workers (by name)
 _FAMILIES: dict[str, Family] = {}
 
-#: rough relative cost of a part by kind, to hand out the longest parts first
-_COST = {ToothedPairStudy: 10, PlanetaryStudy: 6, CamStudy: 5, LinkPlatesStudy: 3, PitchPairStudy: 2, SynthesisStudy: 2}
-
 
 def _pool(jobs: int):
     """A pool of ``jobs`` worker processes, forked where the platform can (the workers then
@@ -264,7 +243,7 @@ def build_families(
     _FAMILIES.clear()
     _FAMILIES.update((f.name, f) for f in families)
     tasks = [(f, p) for f in families for p in f.parts]
-    tasks.sort(key=lambda t: -_COST.get(type(t[1]), 1))  # stable: script order within a kind
+    tasks.sort(key=lambda t: -t[1].cost)  # the longest first; stable: script order within a cost
     outcomes: dict[str, dict] = {f.name: {} for f in families}
     manifests: dict[str, dict] = {}
     try:
@@ -389,12 +368,12 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
             if _sha256(data) != digest:
                 out["files"][fname] = "changed since the build (SHA-256 differs)"
             files[fname] = data
-        if hasattr(part, "check"):
-            expected = not getattr(part, "must_mesh", True)
-            try:
-                results, problems = part.check(files)
-            except Exception as exc:  # a damaged file the readers choke on: a problem of this part, go on
-                results, problems, expected = {}, [f"cannot check its files: {type(exc).__name__}: {exc}"], False
+        try:
+            checked = part.check(files)
+        except Exception as exc:  # a damaged file the readers choke on: a problem of this part, go on
+            checked = Checked({}, [f"cannot check its files: {type(exc).__name__}: {exc}"])
+        if checked is not None:
+            results, problems, expected = checked
         else:  # an analysis: its data files must be what the design gives now
             _, fresh = part.build(root)
             data = sorted(f for f in fresh if f.endswith((".json", ".csv")))

@@ -14,6 +14,7 @@ from transplanter.cams import disc_cam
 from transplanter.errors import ExportError, GeometryError
 from transplanter.export import json_bytes, rounded
 from transplanter.families.making import Making, check_shop_files, manufacture
+from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.pitch import Periodic
 
 __all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
@@ -27,13 +28,15 @@ FOLLOWER_TOL = 5e-3
 
 
 @dataclass(frozen=True)
-class CamStudy:
+class CamStudy(StudyDefaults):
     """A disc cam giving ``follower`` the ``motion`` (a 2π-periodic function of the cam angle).
 
     The follower is then run on the made contour (``validate.follower_check``): the profile
     CSV, and with ``making`` the DXF and the STL's mid-plane section re-read from their bytes;
     an error above ``FOLLOWER_TOL`` at the roller fails the part.
     """
+
+    cost = 5
 
     name: str
     motion: Periodic
@@ -71,15 +74,15 @@ class CamStudy:
         files = plots.figure_files(plots.follower_figure(readable, self.name), f"{self.name}.follower")
         return results, files, problems
 
-    def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+    def check(self, files: dict[str, bytes]) -> Checked:
         """Re-run the follower check on this part's files as found on disk."""
         results, _, problems = self.following_results(self.following(files))
         if self.making is not None:  # the STEP against the DXF as found
             results["made"], more = check_shop_files(files, {f"{self.name}.cam": self.making.width})
             problems += more
-        return results, problems
+        return Checked(results, problems)
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         cam = disc_cam(self.motion, self.follower, self.n, math.radians(self.max_pressure_angle_deg))
         k = int(np.argmax(cam.pressure_angle))
         f = self.follower
@@ -125,4 +128,4 @@ class CamStudy:
         results["follower_check"] = following
         files.update(plot_files)
         files[f"{self.name}.cam.json"] = json_bytes({"parameters": params, "results": results})
-        return {"kind": "cam", "parameters": params, "results": results}, files
+        return Built({"kind": "cam", "parameters": params, "results": results}, files)

@@ -17,6 +17,7 @@ from transplanter.cutter import ShaperCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
+from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.interference import pair_limits
 from transplanter.objectives import Site, seed004_objectives
 from transplanter.pitch import GearPair, Mesh
@@ -67,7 +68,7 @@ def _timing_mark(gear: ToothedGear, features: solids.Features) -> tuple[float, f
 
 
 @dataclass(frozen=True)
-class ToothedPairStudy:
+class ToothedPairStudy(StudyDefaults):
     """Teeth of both gears of ``pair`` cut by ``cutter``; ``teeth`` is the driver's tooth count.
 
     ``rejected`` lists ``(label, teeth, cutter)`` alternatives (e.g. a published module) that
@@ -106,6 +107,8 @@ class ToothedPairStudy:
     tip compared with the design; with ``site`` too, seed 004's objectives are measured again on
     the rebuilt train (:mod:`transplanter.objectives`) and must all still be met.
     """
+
+    cost = 10
 
     name: str
     pair: GearPair
@@ -369,7 +372,7 @@ class ToothedPairStudy:
         out["objectives"] = {f"{o.number} {o.name}": f"{o.verdict} (limit {o.limit})" for o in found}
         return [f"{o.number} {o.name} = {o.value:.4g} {o.unit} (limit {o.limit})" for o in found if not o.ok]
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         pair, sizing = self._sized()
         if self.train is not None and abs(self.train.pair.centre_distance - pair.centre_distance) > 1e-9:
             raise SpecError.out_of_range(
@@ -514,7 +517,7 @@ class ToothedPairStudy:
             self.name,
         )
         files.update(plots.figure_files(fig, f"{self.name}.teeth"))
-        return {"kind": "toothed_pair", "parameters": params, "results": results}, files
+        return Built({"kind": "toothed_pair", "parameters": params, "results": results}, files)
 
     def _turned(self, files: dict[str, bytes]) -> list[str]:
         """A DXF whose toothed contour is the design turned about its axis, said in those words."""
@@ -543,13 +546,14 @@ class ToothedPairStudy:
     def _internal(self) -> tuple[bool, bool]:
         return (self.pair.ring == "driver", self.pair.ring == "driven")
 
-    def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+    def check(self, files: dict[str, bytes]) -> Checked:
         """Re-run the meshing checks on this part's files as found on disk (and say so when a
-        DXF is the design turned about its axis)."""
+        DXF is the design turned about its axis); a pair built as a finding (``must_mesh``
+        False) is expected not to mesh."""
         results, _, problems = self.meshing_results(self.meshing(files))
         made, more = self._check_made(files)
         results["made"] = made
-        return results, self._turned(files) + problems + more
+        return Checked(results, self._turned(files) + problems + more, expected=not self.must_mesh)
 
     def _check_made(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
         """Each gear's STEP against its DXF, and the 3MF assembly, re-read from the files."""

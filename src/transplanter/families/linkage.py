@@ -10,6 +10,7 @@ import numpy as np
 
 from transplanter import plots
 from transplanter.export import csv_bytes, json_bytes
+from transplanter.families.study import Built, StudyDefaults, Table
 from transplanter.linkage import dynamics as dyn
 from transplanter.linkage.fourbar import FourBar, Link
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics
@@ -30,7 +31,7 @@ def _linkage_params(fb: FourBar) -> dict:
 
 
 @dataclass(frozen=True)
-class ArmStudy:
+class ArmStudy(StudyDefaults):
     """Kinematic study of a planting arm at a planting depth (mm)."""
 
     arm: PlantingArm
@@ -40,6 +41,15 @@ class ArmStudy:
     def name(self) -> str:
         return self.arm.name
 
+    def tables(self) -> list[Table]:
+        """Seed 000's Table 2 metrics of the arm at its planting depth."""
+        m = self.arm.metrics(planting_depth=self.planting_depth)
+        title = f"{self.name}  ({self.arm.linkage.grashof_class().value})"
+        return [Table(title, tuple((label, value, unit, None) for label, value, unit in m.table()))]
+
+    def analysis_files(self) -> dict[str, bytes]:
+        return self.plot_files(self.arm.metrics(planting_depth=self.planting_depth))
+
     def plot_files(self, m: PlantingMetrics) -> dict[str, bytes]:
         """Tip path and speed/acceleration diagrams, PNG and SVG, by file name."""
         return {
@@ -47,7 +57,7 @@ class ArmStudy:
             **plots.figure_files(plots.kinematics_figure(self.arm, m), f"{self.name}.kinematics"),
         }
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         m = self.arm.metrics(planting_depth=self.planting_depth)
         rows = m.table()
         fb = self.arm.linkage
@@ -69,11 +79,11 @@ class ArmStudy:
             f"{self.name}.metrics.csv": csv_bytes(["quantity", "value", "unit"], [[a, b, c] for a, b, c in rows]),
         }
         files.update(self.plot_files(m))
-        return {"kind": "arm", "parameters": params, "results": results}, files
+        return Built({"kind": "arm", "parameters": params, "results": results}, files)
 
 
 @dataclass(frozen=True)
-class BalancingStudy:
+class BalancingStudy(StudyDefaults):
     """Shaking force, crank torque, counterweight and phasing of a four-bar with mass data."""
 
     name: str
@@ -83,7 +93,7 @@ class BalancingStudy:
     n_arms: tuple[int, ...] = (2, 4, 6, 8)
     n_harmonics: int = 9
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         fb = self.linkage
         fb.require_full_rotation()
         n = 720
@@ -149,4 +159,4 @@ class BalancingStudy:
         deg = np.degrees(rel)
         fig = plots.shaking_figure(deg, force, torque, f"{self.name}: shaking force and crank torque")
         files.update(plots.figure_files(fig, f"{self.name}.shaking"))
-        return {"kind": "balancing", "parameters": params, "results": results}, files
+        return Built({"kind": "balancing", "parameters": params, "results": results}, files)

@@ -10,6 +10,7 @@ import numpy as np
 
 from transplanter import plots
 from transplanter.export import csv_bytes, json_bytes, rounded, significant
+from transplanter.families.study import Built, StudyDefaults
 from transplanter.pitch import GearPair, Mesh
 
 __all__ = ["PitchPairStudy"]
@@ -31,12 +32,14 @@ def _curve_summary(curve, teeth: int, module: float) -> dict:
 
 
 @dataclass(frozen=True)
-class PitchPairStudy:
+class PitchPairStudy(StudyDefaults):
     """A conjugate pitch-curve pair with its tooth sizing.
 
     Give ``teeth`` (driver tooth count) to derive the module, or ``module`` (mm) to scale the
     curves to a whole number of teeth of that module.
     """
+
+    cost = 2
 
     name: str
     pair: GearPair
@@ -44,7 +47,7 @@ class PitchPairStudy:
     module: float | None = None
     require_convex: bool = False
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         pair, sizing = self.pair.sized(module=self.module, teeth=self.teeth)
         if self.require_convex:
             pair.driver.require_convex(f"{self.name} driver")
@@ -74,4 +77,4 @@ class PitchPairStudy:
             rows = [[f"{a:.6f}", f"{x:.9f}", f"{y:.9f}"] for a, (x, y) in zip(np.degrees(phi), pts, strict=True)]
             files[f"{self.name}.{role}.csv"] = csv_bytes(["polar_angle_deg", "x_mm", "y_mm"], rows)
         files.update(plots.figure_files(plots.pitch_pair_figure(pair, self.name), f"{self.name}.pitch"))
-        return {"kind": "pitch_pair", "parameters": params, "results": results}, files
+        return Built({"kind": "pitch_pair", "parameters": params, "results": results}, files)

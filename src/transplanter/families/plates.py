@@ -36,6 +36,7 @@ from transplanter import dxf
 from transplanter.errors import GeometryError, SpecError, check_number, finite_positive
 from transplanter.export import json_bytes, rounded, significant
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
+from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.linkage.fourbar import FourBar, Link
 from transplanter.linkage.planting import PlantingArm
 from transplanter.solids import Features, circle_polygon
@@ -72,9 +73,11 @@ class Joint:
 
 
 @dataclass(frozen=True)
-class LinkPlatesStudy:
+class LinkPlatesStudy(StudyDefaults):
     """The four plates of ``arm`` (see the module docstring); ``thickness``, ``nose`` and ``gap``
     in mm; ``making`` gives the wire and DXF versions (its width is the plate thickness)."""
+
+    cost = 3
 
     name: str
     arm: PlantingArm
@@ -195,7 +198,7 @@ class LinkPlatesStudy:
             for k, (link, (x, y, angle)) in enumerate((link, where[link]) for link in LINKS)
         ]
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         files: dict[str, bytes] = {}
         results: dict = {}
         parts = {}
@@ -236,7 +239,7 @@ class LinkPlatesStudy:
             "fillet_mm": FILLET_MM,
         }
         files[f"{self.name}.plates.json"] = json_bytes({"parameters": params, "results": results})
-        return {"kind": "link_plates", "parameters": params, "results": results}, files
+        return Built({"kind": "link_plates", "parameters": params, "results": results}, files)
 
     # -- the proof -------------------------------------------------------------------------
     def _centre(self, contours, u: float, v: float, radius: float, what: str) -> np.ndarray:
@@ -300,7 +303,7 @@ class LinkPlatesStudy:
             "tip_from_nose_mm": [rounded(x, 9) for x in arm.tip],
         }
 
-    def check(self, files: dict[str, bytes]) -> tuple[dict, list[str]]:
+    def check(self, files: dict[str, bytes]) -> Checked:
         """Re-run the proof on the files as found: the tip path of the four-bar rebuilt from the
         plates' DXF, each STEP against its DXF, the 3MF assembly."""
         problems = []
@@ -319,7 +322,7 @@ class LinkPlatesStudy:
         results["made"], more = check_shop_files(
             files, widths, (f"{self.name}.assembly.3mf", [f"{self.name}.{link}" for link in LINKS])
         )
-        return results, problems + more
+        return Checked(results, problems + more)
 
 
 def finger_for_centre_of_mass(coupler: float, com: tuple[float, float]) -> tuple[float, float]:

@@ -10,18 +10,21 @@ import numpy as np
 
 from transplanter import plots
 from transplanter.export import csv_bytes, json_bytes, rounded, significant
+from transplanter.families.study import Built, StudyDefaults
 from transplanter.linkage.open_chain import OpenChain3R
 
 __all__ = ["SynthesisStudy"]
 
 
 @dataclass(frozen=True)
-class SynthesisStudy:
+class SynthesisStudy(StudyDefaults):
     """Burmester synthesis and the open-chain 3R mechanism ``chain`` built on it.
 
     ``boxes`` restricts the feasible region (``FourPoses.feasible`` keywords); ``link_range``
     (mm) applies to links 1 and 2.
     """
+
+    cost = 2
 
     name: str
     chain: OpenChain3R
@@ -30,7 +33,7 @@ class SynthesisStudy:
     x_range: tuple[float, float] = (-150.0, 150.0)
     step: float = 0.05
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         ch = self.chain
         sample = ch.poses.sample(self.x_range, self.step)
         feasible = ch.poses.feasible(sample, link1=self.link_range, link2=self.link_range, **self.boxes)
@@ -82,4 +85,4 @@ class SynthesisStudy:
         }
         fig = plots.synthesis_figure(ch, sample, feasible, self.name)
         files.update(plots.figure_files(fig, f"{self.name}.synthesis"))
-        return {"kind": "synthesis", "parameters": params, "results": results}, files
+        return Built({"kind": "synthesis", "parameters": params, "results": results}, files)

@@ -17,6 +17,7 @@ from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, finite_positive
 from transplanter.export import csv_bytes, json_bytes, rounded, significant
 from transplanter.families.making import Making, manufacture
+from transplanter.families.study import Built, StudyDefaults, Table
 from transplanter.interference import SCREEN_CUTTERS, fouling_screen
 from transplanter.objectives import Objective, Site, gearbox_radius, seed004_objectives
 from transplanter.planetary import DifferentialTrain
@@ -27,7 +28,7 @@ __all__ = ["PlanetaryStudy"]
 
 
 @dataclass(frozen=True)
-class PlanetaryStudy:
+class PlanetaryStudy(StudyDefaults):
     """Agronomic study of a planetary transplanting train.
 
     ``reference`` holds published values ``(quantity, value, unit)`` to tabulate beside the
@@ -52,6 +53,8 @@ class PlanetaryStudy:
     checked on the re-read DXF.
     """
 
+    cost = 6
+
     name: str
     train: DifferentialTrain
     seedling_box: tuple[float, float]
@@ -74,6 +77,12 @@ class PlanetaryStudy:
             finite_positive("module", self.module)
         if self.carrier is not None and not (len(self.carrier) == 2 and isinstance(self.carrier[1], Making)):
             raise SpecError(f"{self.name}: carrier must be (outer radius in mm, Making)")
+
+    def tables(self) -> list[Table]:
+        """The agronomic metrics beside the published values (``reference``)."""
+        ref = {q: v for q, v, _ in self.reference}
+        rows = tuple((label, value, unit, ref.get(label)) for label, value, unit in self.metrics().table())
+        return [Table(f"{self.name}  (planetary, {self.train.planets} arms)", rows)]
 
     def metrics(self, train: DifferentialTrain | None = None) -> TransplantingMetrics:
         tr = train or self.train
@@ -205,7 +214,7 @@ class PlanetaryStudy:
         res["planet_holes_readback_mm"] = significant(err)
         return res, files
 
-    def build(self, out: Path) -> tuple[dict, dict[str, bytes]]:
+    def build(self, out: Path) -> Built:
         m = self.metrics()
         tr = self.train
         extra_files: dict[str, bytes] = {}
@@ -275,4 +284,4 @@ class PlanetaryStudy:
         fig = plots.planetary_trajectory_figure(tr, m, self.name, self.seedling_box)
         files.update(plots.figure_files(fig, f"{self.name}.trajectory"))
         files.update(extra_files)
-        return {"kind": "planetary", "parameters": params, "results": results}, files
+        return Built({"kind": "planetary", "parameters": params, "results": results}, files)
