@@ -312,3 +312,51 @@ def test_optimise_in_parallel_on_local_workers_and_a_dask_cluster(tmp_path, caps
     assert local == remote and local["evaluation"] == "parallel (deferred updating)"
     assert local["parameters"]["x"] == pytest.approx(0.25, abs=0.05)
     assert 'at {"x":' in captured.err  # the best design so far, every generation
+
+
+NEW_KIND = """
+from dataclasses import dataclass
+
+from transplanter.families import Built, Checked, Family, StudyDefaults, Table
+
+
+@dataclass(frozen=True)
+class PlateStudy(StudyDefaults):  # a kind of study the package does not know
+    name: str
+    side: float
+    cost = 4
+
+    def build(self, out):
+        data = f"{self.side ** 2:.6f}\\n".encode()
+        return Built({"kind": "plate", "parameters": {"side": self.side}, "results": {}}, {f"{self.name}.txt": data})
+
+    def check(self, files):
+        area = float(files[f"{self.name}.txt"])
+        bad = [] if abs(area - self.side**2) < 1e-9 else [f"area {area} is not {self.side**2}"]
+        return Checked({"area": area}, bad)
+
+    def tables(self):
+        return [Table(self.name, (("plate area", self.side**2, "mm²", 16.0),))]
+
+
+def family():
+    return Family("plates", "a new kind", (PlateStudy("square", 4.0),))
+"""
+
+
+def test_a_new_kind_of_study_needs_only_its_module_and_script(tmp_path, capsys):
+    script = tmp_path / "plates.py"
+    script.write_text(NEW_KIND)
+    assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 0
+    assert (tmp_path / "out" / "plates" / "square.txt").read_text() == "16.000000\n"
+    assert cli.main(["check", str(tmp_path / "out" / "plates")]) == 0
+    assert cli.main(["analyse", str(script)]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if "plate area" in x)
+    assert "16.0000" in line and "16.00" in line.split("16.0000")[1]  # value, then the published value
+    (tmp_path / "out" / "plates" / "square.txt").write_text("15.000000\n")  # a made file gone wrong
+    assert cli.main(["check", str(tmp_path / "out" / "plates")]) == 1
+    assert "area 15.0 is not 16.0" in capsys.readouterr().out
+    script.write_text(NEW_KIND.replace('(PlateStudy("square", 4.0),)', '("square",)'))
+    assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 2
+    assert "parts must be studies (transplanter.families.Study" in capsys.readouterr().err
