@@ -32,7 +32,6 @@ import csv
 import fcntl
 import io
 import json
-import math
 import os
 import shutil
 import tempfile
@@ -51,8 +50,6 @@ __all__ = [
     "json_bytes",
     "csv_bytes",
     "csv_array",
-    "rounded",
-    "significant",
 ]
 
 
@@ -238,14 +235,3 @@ def csv_bytes(header: list[str], rows: list[list[object]]) -> bytes:
 def csv_array(data: bytes) -> np.ndarray:
     """The numbers of a CSV written by :func:`csv_bytes` (header skipped), as an (n, k) array."""
     return np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1, ndmin=2)
-
-
-def rounded(value: float, digits: int = 9) -> float | None:
-    """Rounded for a manifest; None for inf (JSON has no infinity: "no limit")."""
-    v = float(value)
-    return round(v, digits) if math.isfinite(v) else None
-
-
-def significant(value: float, digits: int = 4) -> float:
-    """``value`` to ``digits`` significant figures, for error figures in a manifest."""
-    return float(f"{float(value):.{digits - 1}e}")

@@ -37,7 +37,8 @@ import shapely
 
 from transplanter import dxf, solids, step, stl, threemf
 from transplanter.errors import ExportError, GeometryError
-from transplanter.export import csv_array, csv_bytes, significant
+from transplanter.export import csv_array, csv_bytes
+from transplanter.precision import significant
 from transplanter.tolerances import DXF_READBACK_MM, SOLID_VOLUME_REL
 
 __all__ = [

@@ -57,7 +57,7 @@ from scipy import optimize
 
 from transplanter import cams, contact
 from transplanter.errors import GeometryError, SpecError
-from transplanter.export import significant
+from transplanter.precision import significant
 
 __all__ = [
     "MeshReport",

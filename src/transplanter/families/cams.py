@@ -12,10 +12,11 @@ import shapely
 from transplanter import formats, plots, validate
 from transplanter.cams import disc_cam
 from transplanter.errors import ExportError, GeometryError
-from transplanter.export import json_bytes, rounded
+from transplanter.export import json_bytes
 from transplanter.families.making import Making, check_shop_files, manufacture
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.pitch import Periodic
+from transplanter.precision import rounded
 
 __all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
 

@@ -15,13 +15,14 @@ from transplanter import dxf, formats, plots, solids, validate
 from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
-from transplanter.export import csv_array, csv_bytes, json_bytes, rounded
+from transplanter.export import csv_array, csv_bytes, json_bytes
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.interference import pair_limits
 from transplanter.objectives import Site, seed004_objectives
 from transplanter.pitch import GearPair, Mesh
 from transplanter.planetary import DifferentialTrain
+from transplanter.precision import rounded
 from transplanter.teeth import CHORD_TOLERANCE, ToothedGear, generate_pair, per_gear
 from transplanter.threemf import placement
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE

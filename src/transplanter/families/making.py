@@ -8,7 +8,7 @@ import numpy as np
 
 from transplanter import dxf, formats, solids
 from transplanter.errors import ExportError, GeometryError, SpecError, check_number, finite_positive
-from transplanter.export import rounded, significant
+from transplanter.precision import rounded, significant
 
 __all__ = ["Making", "manufacture", "assembly_file", "check_shop_files"]
 

@@ -34,11 +34,12 @@ from ezdxf.math import bulge_to_arc
 
 from transplanter import dxf
 from transplanter.errors import GeometryError, SpecError, check_number, finite_positive
-from transplanter.export import json_bytes, rounded, significant
+from transplanter.export import json_bytes
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.linkage.fourbar import FourBar, Link
 from transplanter.linkage.planting import PlantingArm
+from transplanter.precision import rounded, significant
 from transplanter.solids import Features, circle_polygon
 from transplanter.threemf import placement
 

@@ -9,9 +9,10 @@ from pathlib import Path
 import numpy as np
 
 from transplanter import plots
-from transplanter.export import csv_bytes, json_bytes, rounded, significant
+from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.study import Built, StudyDefaults
 from transplanter.linkage.open_chain import OpenChain3R
+from transplanter.precision import rounded, significant
 
 __all__ = ["SynthesisStudy"]
 

@@ -15,12 +15,13 @@ from transplanter import dxf, plots
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError, finite_positive
-from transplanter.export import csv_bytes, json_bytes, rounded, significant
+from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.making import Making, manufacture
 from transplanter.families.study import Built, StudyDefaults, Table
 from transplanter.interference import SCREEN_CUTTERS, fouling_screen
 from transplanter.objectives import Objective, Site, gearbox_radius, seed004_objectives
 from transplanter.planetary import DifferentialTrain
+from transplanter.precision import rounded, significant
 from transplanter.solids import circle_polygon
 from transplanter.teeth import coarsest_cut, generate_pair
 
