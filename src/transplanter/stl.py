@@ -27,7 +27,7 @@ import trimesh
 
 from transplanter.errors import GeometryError
 
-__all__ = ["canonical_mesh", "stl_bytes", "MeshReport", "mesh_report", "section"]
+__all__ = ["canonical_mesh", "stl_bytes", "StlReport", "mesh_report", "section"]
 
 
 def canonical_mesh(solid) -> trimesh.Trimesh:
@@ -57,7 +57,7 @@ def stl_bytes(solid) -> bytes:
 
 
 @dataclass(frozen=True)
-class MeshReport:
+class StlReport:
     triangles: int
     watertight: bool
     winding_consistent: bool
@@ -65,10 +65,10 @@ class MeshReport:
     outward: bool
 
 
-def mesh_report(data: bytes) -> MeshReport:
+def mesh_report(data: bytes) -> StlReport:
     """Re-read an STL and check it (trimesh)."""
     tm = trimesh.load(io.BytesIO(data), file_type="stl", process=True)
-    return MeshReport(
+    return StlReport(
         triangles=len(tm.faces),
         watertight=bool(tm.is_watertight),
         winding_consistent=bool(tm.is_winding_consistent),
