@@ -39,7 +39,7 @@ from transplanter import dxf, solids, step, stl, threemf
 from transplanter.errors import ExportError, GeometryError
 from transplanter.export import csv_array, csv_bytes
 from transplanter.precision import significant
-from transplanter.tolerances import DXF_READBACK_MM, SOLID_VOLUME_REL
+from transplanter.tolerances import DXF_READBACK_MM, ONE_SIDED_MM, READBACK_FLATTEN_MM, SOLID_VOLUME_REL
 
 __all__ = [
     "MadePart",
@@ -58,15 +58,6 @@ __all__ = [
     "split_unreadable",
     "ONE_SIDED_MM",
 ]
-
-#: re-read DXF points outside the part by more than this (mm) count as added material: float
-#: round-off of the arc reconstruction is ~1e-12 mm
-ONE_SIDED_MM = 1e-9
-
-#: arcs of the re-read DXF are sampled to this chord (mm): what ``dxf.read_section`` uses for the
-#: meshing check, a tenth of the arc fit's tolerance; the samples lie on the arcs exactly, so the
-#: one-sided check is unaffected, and the read-back deviation is overstated by at most this
-READBACK_FLATTEN_MM = 5e-5
 
 
 @dataclass(frozen=True)

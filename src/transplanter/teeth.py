@@ -49,6 +49,7 @@ from transplanter.errors import GeometryError, SpecError, TransplanterError, che
 from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import quintic_hermite
+from transplanter.tolerances import CHORD_TOLERANCE
 
 __all__ = [
     "ArcFrame",
@@ -66,9 +67,6 @@ __all__ = [
 #: ratio, so the pair needs another remedy (cutter, tooth-count difference)
 MIN_TRIMMED_ADDENDUM = 0.3
 
-#: Largest chord error of the generated outline against the exact envelope, mm (0.25 µm:
-#: a quarter of the 1 µm flank budget, the rest is margin for the DXF arc fit).
-CHORD_TOLERANCE = 0.25e-3
 
 _FRAMES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # ArcFrame.from_curve's, per curve
 

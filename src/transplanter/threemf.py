@@ -36,12 +36,10 @@ import trimesh
 
 from transplanter.errors import ExportError, GeometryError
 from transplanter.stl import canonical_mesh
+from transplanter.tolerances import ASSEMBLY_OVERLAP_MM3
 
 __all__ = ["ASSEMBLY_OVERLAP_MM3", "placement", "assembly_bytes", "read_assembly", "overlaps"]
 
-#: Two parts of an assembly may share at most this volume (mm³): the meshes are exact to float
-#: round-off, and the closest designed gap (backlash, ≥ 10 µm) leaves none at all.
-ASSEMBLY_OVERLAP_MM3 = 1e-6
 
 _NAMESPACE = uuid.UUID("6f1c3e0a-8a4b-5d2e-9c1f-7a0b3c4d5e6f")
 

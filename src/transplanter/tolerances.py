@@ -19,6 +19,14 @@ __all__ = [
     "SHOP_OVERLAP_MM2",
     "MESH_REFERENCE_MM",
     "SOLID_VOLUME_REL",
+    "PENETRATION_TOL",
+    "AREA_ROUND_OFF_MM2",
+    "ONE_SIDED_MM",
+    "READBACK_FLATTEN_MM",
+    "ASSEMBLY_OVERLAP_MM3",
+    "TIP_PATH_TOL_MM",
+    "FOLLOWER_TOL",
+    "CHORD_TOLERANCE",
 ]
 
 #: A four-bar loop solved in closed form closes to round-off: links of up to a few
@@ -83,3 +91,37 @@ MESH_REFERENCE_MM = 2e-8
 #: this, relative: the STL's float32 vertices move a 100 mm part's surface by ~4e-6 mm, which
 #: changes its volume by ~1e-7 relative; the STEP solid is exact to ~1e-12.
 SOLID_VOLUME_REL = 1e-6
+
+#: overlap (mm²) of two polygons reported as 0: the round-off of GEOS's Booleans on outlines of
+#: ~100 mm (coordinates exact to ~1e-14 mm, areas to ~1e-12 mm²)
+AREA_ROUND_OFF_MM2 = 1e-12
+
+#: overlap area (mm²) that counts as interference: the outlines are exact to 0.25 µm chords,
+#: so a zero-backlash pair overlaps by ~1e-4 mm² over a few teeth; real interference of a
+#: module-0.4 tooth tip 10 µm deep is already ~3e-3 mm²
+PENETRATION_TOL = 1e-3
+
+#: re-read DXF points outside the part by more than this (mm) count as added material: float
+#: round-off of the arc reconstruction is ~1e-12 mm
+ONE_SIDED_MM = 1e-9
+
+#: arcs of the re-read DXF are sampled to this chord (mm): what ``dxf.read_section`` uses for the
+#: meshing check, a tenth of the arc fit's tolerance; the samples lie on the arcs exactly, so the
+#: one-sided check is unaffected, and the read-back deviation is overstated by at most this
+READBACK_FLATTEN_MM = 5e-5
+
+#: Two parts of an assembly may share at most this volume (mm³): the meshes are exact to float
+#: round-off, and the closest designed gap (backlash, ≥ 10 µm) leaves none at all.
+ASSEMBLY_OVERLAP_MM3 = 1e-6
+
+#: the tip path of the four-bar rebuilt from the plates' files may leave the designed one by
+#: this much, mm: the 1 µm flank budget; the arcs re-read each centre to ~1e-9 mm
+TIP_PATH_TOL_MM = 1e-3
+
+#: largest follower error on the made cam, mm at the roller: what the shop may be off by
+#: (``WIRE_EDM_TOLERANCE``), five times the profile's own chord and arc-fitting error (≲ 1 µm)
+FOLLOWER_TOL = WIRE_EDM_TOLERANCE
+
+#: Largest chord error of the generated outline against the exact envelope, mm (0.25 µm:
+#: a quarter of the 1 µm flank budget, the rest is margin for the DXF arc fit).
+CHORD_TOLERANCE = 0.25e-3

@@ -58,6 +58,7 @@ from scipy import optimize
 from transplanter import cams, contact
 from transplanter.errors import GeometryError, SpecError
 from transplanter.precision import significant
+from transplanter.tolerances import AREA_ROUND_OFF_MM2, PENETRATION_TOL
 
 __all__ = [
     "MeshReport",
@@ -69,10 +70,6 @@ __all__ = [
     "turned_by",
 ]
 
-#: overlap area (mm²) that counts as interference: the outlines are exact to 0.25 µm chords,
-#: so a zero-backlash pair overlaps by ~1e-4 mm² over a few teeth; real interference of a
-#: module-0.4 tooth tip 10 µm deep is already ~3e-3 mm²
-PENETRATION_TOL = 1e-3
 #: overlap further than this many circular pitches from the pitch point is fouling: the path
 #: of contact of involute teeth ends about one pitch (contact ratio ~1.5-2) from it
 FOULING_PITCHES = 1.5
@@ -129,8 +126,10 @@ class MeshReport:
         the polygon Booleans) are reported as 0."""
         return {
             "steps": len(self.driver_angle),
-            "max_penetration_mm2": significant(self.max_penetration) if self.max_penetration > 1e-12 else 0.0,
-            "max_fouling_mm2": significant(self.max_fouling) if self.max_fouling > 1e-12 else 0.0,
+            "max_penetration_mm2": significant(self.max_penetration)
+            if self.max_penetration > AREA_ROUND_OFF_MM2
+            else 0.0,
+            "max_fouling_mm2": significant(self.max_fouling) if self.max_fouling > AREA_ROUND_OFF_MM2 else 0.0,
             "max_transmission_error_mm": significant(self.max_transmission_error),
             "rms_transmission_error_mm": significant(self.rms_transmission_error),
             "backlash_mm": [significant(self.backlash.min()), significant(self.backlash.max())],

@@ -17,15 +17,13 @@ from transplanter.families.making import Making, check_shop_files, manufacture
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.pitch import Periodic
 from transplanter.precision import rounded
+from transplanter.tolerances import FOLLOWER_TOL
 
 __all__ = ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"]
 
 
 #: follower-check samples per cam turn
 FOLLOWER_STEPS = 720
-#: largest follower error on the made cam, mm at the roller: a tenth of a typical wire-EDM
-#: tolerance, and 50 times the profile's own chord and arc-fitting error (≲ 1 µm)
-FOLLOWER_TOL = 5e-3
 
 
 @dataclass(frozen=True)

@@ -42,12 +42,10 @@ from transplanter.linkage.planting import PlantingArm
 from transplanter.precision import rounded, significant
 from transplanter.solids import Features, circle_polygon
 from transplanter.threemf import placement
+from transplanter.tolerances import TIP_PATH_TOL_MM
 
 __all__ = ["Joint", "LinkPlatesStudy", "finger_for_centre_of_mass", "TIP_PATH_TOL_MM", "FILLET_MM"]
 
-#: the tip path of the four-bar rebuilt from the plates' files may leave the designed one by
-#: this much, mm: the 1 µm flank budget; the arcs re-read each centre to ~1e-9 mm
-TIP_PATH_TOL_MM = 1e-3
 #: a DXF arc draws a hole or the nose when its radius is theirs within this, mm: the arcs are
 #: inset 0.3 µm and fitted within 0.25 µm (``tolerances.DXF_INSET_MM``), the blends between the
 #: nose and the finger's flanks differ by tens of µm
