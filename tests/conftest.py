@@ -1,9 +1,7 @@
-import os
 from pathlib import Path
 
 import pytest
 
-from transplanter import cli
 from transplanter.families import load_family
 
 PARTS = Path(__file__).resolve().parents[1] / "parts"
@@ -23,20 +21,8 @@ def seed000_arms():
 
 
 @pytest.fixture(scope="session")
-def built(tmp_path_factory, parts_dir) -> Path:
-    """Every seed family built once per test run, for the tests that read exports.
-
-    With pytest-xdist the workers share one build: the first to get the lock builds (in two
-    processes), the others wait for it and reuse the folder."""
-    import fcntl
-
-    shared = tmp_path_factory.getbasetemp()
-    if os.environ.get("PYTEST_XDIST_WORKER"):
-        shared = shared.parent  # the run's folder, common to all workers
-    out = shared / "exports"
-    with open(shared / "exports.lock", "a") as lock:
-        fcntl.flock(lock, fcntl.LOCK_EX)
-        if not (shared / "exports.done").exists():
-            assert cli.main(["build", "--parts", str(parts_dir), "-o", str(out), "--jobs", "2"]) == 0
-            (shared / "exports.done").touch()
-    return out
+def built(transplanter_built) -> Path:
+    """Every seed family built once per test run, for the tests that read exports: the
+    folder the pytest plugin built for the part items (``transplanter.pytest_plugin``; with
+    pytest-xdist, one build shared by the workers)."""
+    return transplanter_built

@@ -141,7 +141,8 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
 
 
 def _fmt_um(mm: float) -> str:
-    return f"{mm * 1000:.3g} µm"
+    """A length in µm, or in mm from 1 mm up (no "3.2e+03 µm")."""
+    return f"{mm:.3g} mm" if abs(mm) >= 1 else f"{mm * 1000:.3g} µm"
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
