@@ -16,9 +16,11 @@ def _files(folder):
 
 
 def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys):
-    assert cli.main(["pair", "ellipse:0.15:2", "--teeth", "24", "--module", "2", "-o", str(tmp_path)]) == 0
+    """Cut by a rack cutter (hob); the ring below by a shaper cutter the call chooses."""
+    args = ["pair", "ellipse:0.15:2", "--teeth", "24", "--module", "2", "--rack", "-o", str(tmp_path)]
+    assert cli.main(args) == 0
     out = capsys.readouterr().out
-    assert "24/24 teeth, m = 2 mm" in out and "ok ->" in out
+    assert "24/24 teeth, m = 2 mm" in out and "rack cutter (hob)" in out and "ok ->" in out
     folder = tmp_path / "pair"
     manifest = json.loads((folder / "manifest.json").read_text())
     rec = manifest["parts"]["pair"]
@@ -37,6 +39,7 @@ def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys)
     # the part script left beside the folder states the call; rebuilding it gives the same files
     script = tmp_path / "pair.py"
     assert "pair_family(" in script.read_text() and "'ellipse:0.15:2'" in script.read_text()
+    assert "rack=True" in script.read_text()
     again = tmp_path / "again"
     assert cli.main(["build", str(script), "-o", str(again)]) == 0
     assert _files(again / "pair") == _files(folder)
@@ -45,7 +48,9 @@ def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys)
 def test_a_four_lobed_ring_and_its_planet_from_the_cli(tmp_path, capsys):
     args = ["pair", "ellipse:0.05:2", "--internal", "--driven-lobes", "4", "--teeth", "24", "--module", "1.5"]
     assert cli.main([*args, "-o", str(tmp_path)]) == 0
-    assert "internal pair of 'ellipse:0.05:2': 24/48 teeth" in capsys.readouterr().out
+    assert "internal pair of 'ellipse:0.05:2': 24/48 teeth, m = 1.5 mm, a = 17.9438 mm, shaper cutter z0 = 14" in (
+        capsys.readouterr().out
+    )
     manifest = json.loads((tmp_path / "pair" / "manifest.json").read_text())
     asm = manifest["parts"]["pair"]["results"]["assembly"]
     assert asm["kind"] == "internal" and asm["ring"] == "driven" and asm["teeth"] == [24, 48]

@@ -223,3 +223,69 @@ def test_generation_errors_name_the_limit():
         ShaperCutter(4, m)
     with pytest.raises(GeometryError, match="pointed"):
         ShaperCutter(8, m, addendum=1.6)
+
+
+# -- rack cutter (hob) ----------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(("z", "x"), [(12, 0.5), (17, 0.3), (30, 0.0), (60, -0.2)])
+def test_rack_cut_circular_gears_are_exact_involutes(z, x):
+    """A rack generates the exact involute of the gear's base circle; its space on the pitch
+    circle is ``π m / 2 + thickening - 2 x m tan α``. Envelope points within 1e-9 mm, the
+    outline within the chord tolerance (0.25 µm) of exact involute points."""
+    from transplanter.cutter import RackCutter
+
+    m = 2.0
+    cutter = RackCutter(m, dedendum=1.6, thickening=0.05)
+    gear = generate(PitchCurve.circle(z * m / 2), cutter, z, shift=x)
+    assert gear.polygon.is_valid and gear.teeth == z and gear.undercut == 0.0
+    big_r, al = z * m / 2, cutter.pressure_angle
+    rb = big_r * math.cos(al)
+    e = math.pi * m / 2 + cutter.thickening - 2 * x * m * math.tan(al)
+    boundary = gear.polygon.boundary
+    worst = 0.0
+    for sp in gear.spaces:
+        pts = _surviving_flank_points(gear)(sp)
+        rho = np.linalg.norm(pts, axis=1)
+        d = np.angle(np.exp(1j * (np.arctan2(pts[:, 1], pts[:, 0]) - sp.s / big_r)))
+        half = e / (2 * big_r) + involute(np.arccos(np.clip(rb / rho, -1, 1))) - involute(al)
+        worst = max(worst, float(np.max(np.abs(rb * (np.abs(d) - half)))))
+    assert worst < 1e-9
+    sp = gear.spaces[z // 3]
+    for flank in (sp.lower, sp.upper):
+        on = flank[shapely.distance(boundary, shapely.points(flank)) < 1e-6]
+        rho = np.linspace(np.linalg.norm(on, axis=1).min(), np.linalg.norm(on, axis=1).max(), 400)
+        half = e / (2 * big_r) + involute(np.arccos(np.clip(rb / rho, -1, 1))) - involute(al)
+        off = np.angle(np.exp(1j * (np.arctan2(on[:, 1], on[:, 0]) - sp.s / big_r)))
+        ang = sp.s / big_r + math.copysign(1.0, float(np.mean(off))) * half
+        exact = np.stack([rho * np.cos(ang), rho * np.sin(ang)], axis=1)
+        assert float(shapely.distance(boundary, shapely.points(exact)).max()) < CHORD_TOLERANCE + 1e-9
+
+
+def test_a_rack_cut_non_circular_pair_meshes_with_its_backlash():
+    from transplanter import validate
+    from transplanter.backlash import backlash_band
+    from transplanter.cutter import RackCutter
+    from transplanter.teeth import generate_pair
+
+    pair, sizing = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.1, 2), "external", 2).sized(module=2.0)
+    driver, driven = generate_pair(pair, RackCutter(2.0), sizing.teeth, backlash=0.1)
+    report = validate.mesh_check(pair, driver.polygon, driven.polygon, 2.0, steps=180, teeth=sizing.teeth[0])
+    assert report.problems() == [] and report.max_penetration == 0.0
+    low, high = backlash_band(pair, 0.1)
+    assert low <= report.backlash.min() and report.backlash.max() <= high
+    assert report.contact_ratio > 1.2
+
+
+def test_a_rack_refuses_rings_and_concave_pitch_curves():
+    from transplanter.cutter import RackCutter
+    from transplanter.teeth import generate_pair
+
+    ring_pair, ring = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.05, 2), "internal", 3).sized(module=2.0)
+    with pytest.raises(GeometryError, match="cannot cut a ring gear"):
+        generate_pair(ring_pair, RackCutter(2.0), ring.teeth)
+    concave = PitchCurve.from_fourier(30.0, (0.0, 0.0, 4.0), lobes=1)  # a 3-lobed, dented curve
+    assert not concave.is_convex
+    pair, sizing = GearPair.from_driver(concave, "external", 1).sized(module=1.0)
+    with pytest.raises(GeometryError, match="cannot cut the concave part of the pitch curve at arc length"):
+        generate_pair(pair, RackCutter(1.0), sizing.teeth)

@@ -226,6 +226,7 @@ def _cmd_pair(args: argparse.Namespace) -> int:
         ring=args.ring,
         backlash=args.backlash,
         cutter_teeth=args.cutter_teeth,
+        rack=args.rack,
         width=args.width,
         name=args.name,
     )
@@ -301,6 +302,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--driven-lobes", type=int, help="named curves: lobes of the mate")
     p.add_argument("--backlash", type=float, help="circumferential backlash, mm (default: ISO/TR 10064-2)")
     p.add_argument("--cutter-teeth", type=int, help="shaper cutter teeth (default: the first of 12..24 that cuts)")
+    p.add_argument("--rack", action="store_true", help="cut with a rack cutter (hob): external, convex curves")
     p.add_argument("--width", type=float, default=10.0, help="face width, mm (default 10)")
     p.add_argument("--name", default="pair", help="folder and part name (default: pair)")
     p.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")

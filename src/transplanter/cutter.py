@@ -38,13 +38,44 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from scipy import optimize
 
 from transplanter.errors import GeometryError, SpecError, check_int, check_number
 
-__all__ = ["ShaperCutter", "involute"]
+__all__ = ["Cutter", "ShaperCutter", "RackCutter", "involute"]
+
+
+@runtime_checkable
+class Cutter(Protocol):
+    """What the envelope (:mod:`transplanter.teeth`) needs from a generating tool.
+
+    The tool's tooth, centred on the +x axis of its own frame and pointing at the gear, is one
+    profile parameter τ ∈ [0, 7] over seven pieces (lower flank to tip to upper flank, as
+    :class:`ShaperCutter` describes); ``profile`` gives points and outward unit normals;
+    ``placement`` where its frame is when it has rolled to ``s`` on the pitch curve;
+    ``contact_rolls`` the roll at which each profile point touches the envelope; ``check_fits``
+    refuses a curve the tool cannot roll on. ``thickening`` is the backlash allowance, and
+    ``addendum``/``dedendum`` (in modules) bound the gear's dedendum and addendum.
+    """
+
+    module: float
+    pressure_angle: float
+    addendum: float
+    dedendum: float
+    thickening: float
+
+    def profile(self, tau): ...
+
+    def placement(self, frame, s, s_centre, side: float, shift: float): ...
+
+    def contact_rolls(self, frame, q, n, s_centres, side: float, shift: float) -> np.ndarray: ...
+
+    def check_fits(self, frame, internal: bool, shift: float) -> None: ...
+
+    def outline(self, per_piece: int = 24) -> np.ndarray: ...
 
 
 def involute(angle):
@@ -238,6 +269,63 @@ class ShaperCutter:
         k = q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
         return q, n, k
 
+    # -- the envelope: where the cutter is at a roll, and which roll makes a point touch ---------
+
+    def placement(self, frame, s, s_centre, side: float, shift: float):
+        """Cutter-frame origin C (..., 2) and rotation ψ (...) at rolls ``s`` (mm of arc on
+        ``frame``, a ``teeth.ArcFrame``) with a tooth centred at ``s_centre``: C on the normal at
+        the pitch point, ``r_c + x m`` from it on the cutter's side (``side`` = +1 outside an
+        external gear, -1 inside a ring), turned by ``η = -side (s - s_centre) / r_c``."""
+        p, _, nrm, _ = frame.at(s, curvature=False)
+        c = p + side * (self.pitch_radius + shift * self.module) * nrm
+        u = -side * nrm
+        eta = -side * (np.asarray(s, dtype=float) - s_centre) / self.pitch_radius
+        return c, np.arctan2(u[..., 1], u[..., 0]) - eta
+
+    def contact_rolls(self, frame, q, n, s_centres, side: float, shift: float) -> np.ndarray:
+        """Rolls (spaces, points) at which profile points ``q`` with normals ``n`` touch the
+        envelope of the spaces centred at ``s_centres``: ``k = λ sin(ν - η)`` in closed form,
+        with a few fixed-point steps on λ when the cutter is shifted (module docstring of
+        :mod:`transplanter.teeth`)."""
+        k = q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
+        nu = np.arctan2(n[..., 1], n[..., 0])
+        rc = self.pitch_radius
+        d = rc + shift * self.module
+        sc = np.asarray(s_centres, dtype=float)[:, None]
+        lam = np.full((sc.shape[0], k.size), rc)
+        for _ in range(40 if shift else 1):
+            s = sc - side * rc * (nu - np.arcsin(np.clip(k / lam, -1.0, 1.0)))
+            if not shift:
+                break
+            _, _, _, kap = frame.at(s)
+            new = (1 + side * d * kap) / (1 / rc + side * kap)
+            done = np.max(np.abs(new - lam)) < 1e-14 * rc
+            lam = new
+            if done:
+                s = sc - side * rc * (nu - np.arcsin(np.clip(k / lam, -1.0, 1.0)))
+                break
+        return s
+
+    def check_fits(self, frame, internal: bool, shift: float) -> None:
+        """GeometryError if the cutter cannot roll on the curve: its rolling radius against the
+        smallest concave (external gear) or convex (ring) radius of curvature."""
+        d = self.pitch_radius + shift * self.module
+        (s_lo, k_lo), (s_hi, k_hi) = frame.curvature_extremes
+        if internal:
+            limit, where, kind = (1 / k_hi if k_hi > 0 else math.inf), s_hi, "convex"
+        else:
+            limit, where, kind = (-1 / k_lo if k_lo < 0 else math.inf), s_lo, "concave"
+        if d >= limit:
+            raise GeometryError(
+                f"cutter-curve interference: the cutter's rolling radius {d:.4g} mm (z_c = {self.teeth}, "
+                f"m = {self.module:g}) exceeds the smallest {kind} radius of curvature {limit:.4g} mm of the pitch "
+                f"curve at arc length {where:.2f} mm; use a cutter with fewer teeth or a smoother curve"
+            )
+
+    @property
+    def label(self) -> str:
+        return f"shaper cutter z0 = {self.teeth}"
+
     def outline(self, per_piece: int = 24) -> np.ndarray:
         """(n, 2) closed outline of the whole cutter (all teeth), mm, counter-clockwise."""
         tau = np.linspace(0, 7, 7 * per_piece + 1)
@@ -248,3 +336,161 @@ class ShaperCutter:
             c, s = math.cos(a), math.sin(a)
             pts.append(q @ np.array([[c, s], [-s, c]]))
         return np.concatenate(pts)
+
+
+@dataclass(frozen=True)
+class RackCutter:
+    """Involute rack (the basic rack of a hob), for external gears.
+
+    Its teeth have straight flanks at the pressure angle α, a tip land ``addendum · m`` from the
+    reference line with fillets of radius ``tip_fillet · m``, and are ``π m / 2 + thickening``
+    thick on the reference line. The reference line (offset by the profile shift ``x m``) rolls
+    without slip on the pitch curve: at roll ``s`` the rack tooth centred at ``s_j`` has moved
+    by ``s - s_j`` along the tangent. A profile point touches the envelope when its normal
+    passes through the pitch point, so its roll is, in closed form,
+    ``s = s_j - e (q_y - (q_x - x m) n_y / n_x)`` (rack frame: x towards the gear, y along the
+    line) — no iteration even with a shift. A rack rolls on a straight line: it cuts only
+    pitch curves without concave parts, and no ring gears.
+
+    The profile parameter τ runs over the same seven pieces as a shaper cutter's: 0 the lower
+    flank from the rack's root to the reference line, 1 on to the tip fillet, 2 the fillet,
+    3 the tip land, 4-6 the upper side back to the root.
+
+    Examples
+    --------
+    >>> r = RackCutter(2.0)
+    >>> q, n = r.profile(np.array([1.5, 3.5]))[:2]
+    >>> bool(np.allclose(n[0], [math.sin(r.pressure_angle), -math.cos(r.pressure_angle)])), q[1].tolist()
+    (True, [2.5, 0.0])
+    """
+
+    module: float
+    pressure_angle: float = math.radians(20.0)
+    addendum: float = 1.25
+    dedendum: float = 1.35
+    tip_fillet: float = 0.2
+    thickening: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_number("cutter module", self.module, 0.01, 100.0, unit="mm")
+        check_number("cutter pressure_angle", self.pressure_angle, math.radians(10), math.radians(35), unit="rad")
+        check_number("cutter addendum", self.addendum, 0.5, 2.0, unit="m")
+        check_number("cutter dedendum", self.dedendum, 0.0, 3.0, low_open=True, unit="m")
+        check_number("cutter tip_fillet", self.tip_fillet, 0.0, 0.5, unit="m")
+        m = float(self.module)
+        check_number("cutter thickening", self.thickening, -m / 2, m / 2, low_open=True, high_open=True, unit="mm")
+        if self._geometry["tip_half"] <= 0:
+            raise GeometryError(
+                f"the rack tooth is pointed: its tip land vanishes (addendum {self.addendum} m, fillet "
+                f"{self.tip_fillet} m, pressure angle {math.degrees(self.pressure_angle):.4g} deg)"
+            )
+
+    @property
+    def pitch(self) -> float:
+        """Circular pitch π m, mm."""
+        return math.pi * self.module
+
+    @property
+    def label(self) -> str:
+        return "rack cutter (hob)"
+
+    @property
+    def _geometry(self) -> dict:
+        cached = self.__dict__.get("_geo")
+        if cached is not None:
+            return cached
+        m, a = self.module, self.pressure_angle
+        w0 = self.pitch / 4 + self.thickening / 2  # half thickness on the reference line
+        rho = self.tip_fillet * m
+        x_tip = self.addendum * m
+        xc = x_tip - rho  # fillet centre: rho from the tip line and from the flank
+        yc = (w0 * math.cos(a) - rho - xc * math.sin(a)) / math.cos(a)
+        geo = {"w0": w0, "rho": rho, "x_tip": x_tip, "centre": np.array([xc, yc]), "tip_half": yc}
+        geo["x_fillet"] = xc + rho * math.sin(a)  # where the flank meets the fillet
+        object.__setattr__(self, "_geo", geo)
+        return geo
+
+    def _upper(self, piece: np.ndarray, t: np.ndarray):
+        """Upper half (pieces 3..6); ``t`` in [0, 1] runs from the tooth centre outwards."""
+        g, a = self._geometry, self.pressure_angle
+        q = np.empty(t.shape + (2,))
+        n = np.empty(t.shape + (2,))
+        m = piece == 3  # tip land
+        q[m] = np.stack([np.full(m.sum(), g["x_tip"]), t[m] * g["tip_half"]], axis=-1)
+        n[m] = (1.0, 0.0)
+        m = piece == 4  # fillet: normal angle 0 .. 90° - α
+        ang = t[m] * (math.pi / 2 - a)
+        n[m] = np.stack([np.cos(ang), np.sin(ang)], axis=-1)
+        q[m] = g["centre"] + g["rho"] * n[m]
+        flank = np.array([math.sin(a), math.cos(a)])
+        m = piece == 5  # flank from the fillet down to the reference line
+        x = (1 - t[m]) * g["x_fillet"]
+        q[m] = np.stack([x, g["w0"] - x * math.tan(a)], axis=-1)
+        n[m] = flank
+        m = piece == 6  # flank from the reference line to the rack's root
+        x = -t[m] * self.dedendum * self.module
+        q[m] = np.stack([x, g["w0"] - x * math.tan(a)], axis=-1)
+        n[m] = flank
+        return q, n
+
+    def profile(self, tau):
+        """Point q (..., 2) and outward unit normal n (..., 2) at τ ∈ [0, 7] (rack frame: x
+        towards the gear, the reference line at x = 0), and k = q × n."""
+        tau = np.asarray(tau, dtype=float)
+        if np.any((tau < 0) | (tau > 7)) or not np.all(np.isfinite(tau)):
+            raise SpecError("profile parameter τ must lie in [0, 7]")
+        piece = np.minimum(np.floor(tau), 6).astype(int)
+        t = tau - piece
+        lower = piece <= 2
+        land = piece == 3
+        up_piece = np.where(lower, 6 - piece, piece)
+        up_t = np.where(land, np.abs(2 * t - 1), np.where(lower, 1 - t, t))
+        q, n = self._upper(up_piece, up_t)
+        flip = lower | (land & (t < 0.5))
+        q[flip, 1] *= -1
+        n[flip, 1] *= -1
+        return q, n, q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
+
+    def placement(self, frame, s, s_centre, side: float, shift: float):
+        """Rack-frame origin (the tooth centre on the reference line) and rotation at rolls ``s``:
+        moved ``s - s_centre`` back along the tangent and ``x m`` away from the gear."""
+        p, t, nrm, _ = frame.at(s, curvature=False)
+        u = -side * nrm  # towards the gear: the rack's +x
+        c = p - (np.asarray(s, dtype=float) - s_centre)[..., None] * t - shift * self.module * u
+        return c, np.arctan2(u[..., 1], u[..., 0])
+
+    def contact_rolls(self, frame, q, n, s_centres, side: float, shift: float) -> np.ndarray:
+        """Rolls at which profile points touch: their normal through the pitch point
+        ``(x m, y)`` of the rack frame, ``y = q_y - (q_x - x m) n_y / n_x``, and ``s = s_j - e y``
+        (the rack's +y is ``-e T``)."""
+        y = q[..., 1] - (q[..., 0] - shift * self.module) * n[..., 1] / n[..., 0]
+        return np.asarray(s_centres, dtype=float)[:, None] - side * y
+
+    def check_fits(self, frame, internal: bool, shift: float) -> None:
+        """A rack cuts external gears whose pitch curve has no concave part."""
+        if internal:
+            raise GeometryError("a rack cutter (hob) cannot cut a ring gear: use a shaper cutter")
+        (s_lo, k_lo), _ = frame.curvature_extremes
+        if k_lo < 0:
+            raise GeometryError(
+                f"a rack cutter (hob) rolls on a straight line and cannot cut the concave part of the pitch curve "
+                f"at arc length {s_lo:.2f} mm (radius of curvature {-1 / k_lo:.4g} mm): use a shaper cutter"
+            )
+
+    def outline(self, per_piece: int = 24, teeth: int = 7) -> np.ndarray:
+        """(n, 2) closed outline of a stretch of ``teeth`` rack teeth centred on the frame's
+        x axis, closed by a back ``m`` behind the root line, counter-clockwise."""
+        tau = np.linspace(0, 7, 7 * per_piece + 1)
+        q, _, _ = self.profile(tau)
+        q = q[::-1]  # from the upper root down the tooth to the lower root: clockwise in y for +x up
+        half = (teeth - 1) / 2
+        rows = [q + (0.0, (half - j) * self.pitch) for j in range(teeth)]
+        back = -(self.dedendum + 1.0) * self.module
+        top, bottom = rows[0][0, 1], rows[-1][-1, 1]
+        pts = np.concatenate([[[back, top]], *rows, [[back, bottom]]])
+        return pts[::-1] if _signed_area(pts) < 0 else pts
+
+
+def _signed_area(pts: np.ndarray) -> float:
+    x, y = pts[:, 0], pts[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))

@@ -1,4 +1,10 @@
-"""Teeth of non-circular external and internal gears as the envelope of a shaper cutter.
+"""Teeth of non-circular external and internal gears as the envelope of a gear cutter.
+
+The cutter is any :class:`~transplanter.cutter.Cutter`: a shaper cutter (below; external and
+ring gears) or a rack cutter — the basic rack of a hob — whose reference line rolls on the
+pitch curve (external gears without concave parts; its contact roll is closed-form too, see
+:class:`~transplanter.cutter.RackCutter`). The cutter supplies the profile, its placement at a
+roll and the contact rolls; this module assembles the outline and runs the checks.
 
 The cutter's pitch circle (radius ``r_c``) rolls without slip on the gear's pitch curve
 (seed 004 eqs 11-18): at roll ``s`` (arc length along the pitch curve, body frame) the
@@ -44,7 +50,7 @@ from scipy.interpolate import PPoly
 from scipy.spatial import cKDTree
 
 from transplanter.backlash import resolve_backlash
-from transplanter.cutter import ShaperCutter
+from transplanter.cutter import Cutter, RackCutter, ShaperCutter
 from transplanter.errors import GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
 from transplanter.pitch.curve import PitchCurve
@@ -184,7 +190,7 @@ class ToothedGear:
     module: float
     internal: bool
     shift: float
-    cutter: ShaperCutter
+    cutter: Cutter
     spaces: tuple[ToothSpace, ...]
     tip_lands: np.ndarray = field(repr=False)
     blank: shapely.Geometry = field(repr=False, default=None)
@@ -208,17 +214,6 @@ class ToothedGear:
         return int(np.argmin(np.linalg.norm(pp - np.asarray(point, dtype=float), axis=1)))
 
 
-def _placement(frame: ArcFrame, cutter: ShaperCutter, s, s_centre, side: float, shift: float):
-    """Cutter centre C (..., 2), rotation ψ (...) and (P, N, κ) at rolls ``s``."""
-    p, _, nrm, kap = frame.at(s, curvature=False)
-    d = cutter.pitch_radius + shift * cutter.module
-    c = p + side * d * nrm
-    u = -side * nrm
-    beta = np.arctan2(u[..., 1], u[..., 0])
-    eta = -side * (s - s_centre) / cutter.pitch_radius
-    return c, beta - eta, p, nrm, kap
-
-
 def _on_gear(c, psi, q) -> np.ndarray:
     """Cutter-frame points ``q`` turned by ``psi`` about, and moved to, cutter centres ``c``
     (gear frame); the arrays broadcast, so one placement per point or an outer product both work."""
@@ -232,28 +227,14 @@ def _tip_region(frame: ArcFrame, distance: float, tolerance: float) -> shapely.G
     return tip if tip.is_valid else shapely.make_valid(tip, method="structure", keep_collapsed=False)
 
 
-def _contact(frame, cutter, tau, s_centres, side, shift):
-    """Envelope points Y (spaces, n, 2), contact rolls (spaces, n) for profile params ``tau``."""
-    q, n, k = cutter.profile(tau)
-    nu = np.arctan2(n[:, 1], n[:, 0])
-    rc = cutter.pitch_radius
-    d = rc + shift * cutter.module
+def _contact(frame, cutter: Cutter, tau, s_centres, side, shift):
+    """Envelope points Y (spaces, n, 2) and contact rolls (spaces, n) of profile params ``tau``:
+    the roll at which each profile point touches (``cutter.contact_rolls``), and the point
+    placed there (``cutter.placement``)."""
+    q, n, _ = cutter.profile(tau)
     sc = np.asarray(s_centres, dtype=float)[:, None]
-    lam = np.full((sc.shape[0], tau.size), rc)
-    for _ in range(40 if shift else 1):
-        eta = nu - np.arcsin(np.clip(k / lam, -1.0, 1.0))
-        s = sc - side * rc * eta
-        if not shift:
-            break
-        _, _, _, kap = frame.at(s)
-        new = (1 + side * d * kap) / (1 / rc + side * kap)
-        if np.max(np.abs(new - lam)) < 1e-14 * rc:
-            lam = new
-            eta = nu - np.arcsin(np.clip(k / lam, -1.0, 1.0))
-            s = sc - side * rc * eta
-            break
-        lam = new
-    c, psi, _, _, _ = _placement(frame, cutter, s, sc, side, shift)
+    s = cutter.contact_rolls(frame, q, n, s_centres, side, shift)
+    c, psi = cutter.placement(frame, s, sc, side, shift)
     return _on_gear(c, psi, q), s
 
 
@@ -294,21 +275,6 @@ def _offset(frame: ArcFrame, distance: float, tolerance: float) -> np.ndarray:
     s = frame.length * np.arange(n) / n
     p, _, nrm, _ = frame.at(s)
     return p + distance * nrm
-
-
-def _check_cutter_fits(frame: ArcFrame, cutter: ShaperCutter, internal: bool, shift: float) -> None:
-    d = cutter.pitch_radius + shift * cutter.module
-    (s_lo, k_lo), (s_hi, k_hi) = frame.curvature_extremes
-    if internal:
-        limit, where, kind = (1 / k_hi if k_hi > 0 else math.inf), s_hi, "convex"
-    else:
-        limit, where, kind = (-1 / k_lo if k_lo < 0 else math.inf), s_lo, "concave"
-    if d >= limit:
-        raise GeometryError(
-            f"cutter-curve interference: the cutter's rolling radius {d:.4g} mm (z_c = {cutter.teeth}, "
-            f"m = {cutter.module:g}) exceeds the smallest {kind} radius of curvature {limit:.4g} mm of the pitch "
-            f"curve at arc length {where:.2f} mm; use a cutter with fewer teeth or a smoother curve"
-        )
 
 
 #: a back-turn (> 90°) on segments shorter than this (mm) is an envelope artefact where two pieces
@@ -352,7 +318,7 @@ def _space_polygons(y, s_centres, frame, side, module):
 
 def generate(
     curve: PitchCurve,
-    cutter: ShaperCutter,
+    cutter: Cutter,
     teeth: int,
     *,
     internal: bool = False,
@@ -370,7 +336,9 @@ def generate(
     ----------
     curve : PitchCurve
         Its perimeter must be ``teeth * π * m`` (``GearPair.sized`` makes it so).
-    cutter : ShaperCutter
+    cutter : Cutter
+        A :class:`~transplanter.cutter.ShaperCutter` (external and ring gears) or a
+        :class:`~transplanter.cutter.RackCutter` (external gears without concave parts).
     teeth : int
     internal : bool
         True for a ring gear (the cutter rolls inside the curve).
@@ -391,8 +359,8 @@ def generate(
         Tooth-space centres at ``(j + phase) π m`` of arc length: 0 puts a space, 0.5 a tooth
         at the curve's start (a mating gear takes the other).
     """
-    if not isinstance(cutter, ShaperCutter):
-        raise SpecError(f"cutter must be a ShaperCutter, got {type(cutter).__name__}")
+    if not isinstance(cutter, Cutter):
+        raise SpecError(f"cutter must be a cutter (ShaperCutter, RackCutter), got {type(cutter).__name__}")
     if not isinstance(curve, PitchCurve):
         raise SpecError(f"curve must be a PitchCurve, got {type(curve).__name__}")
     m = cutter.module
@@ -419,7 +387,7 @@ def generate(
         )
     side = -1.0 if internal else 1.0
     frame = ArcFrame.from_curve(curve)
-    _check_cutter_fits(frame, cutter, internal, shift)
+    cutter.check_fits(frame, internal, shift)
     pitch = frame.length / teeth
     s_centres = pitch * (np.arange(teeth) + phase)
     tau, y = _profile_grid(frame, cutter, s_centres, side, shift, tolerance)
@@ -479,7 +447,7 @@ def secondary_cut(
     pitch = frame.length / teeth
     s = pitch * np.arange(teeth * per_pitch) / per_pitch
     j = (np.round(s / pitch - phase) + phase) * pitch
-    c, psi, _, _, _ = _placement(frame, cutter, s, j, side, shift)
+    c, psi = cutter.placement(frame, s, j, side, shift)
     placed = _on_gear(c[:, None, :], psi[:, None], cutter.outline(per_piece=6))
     xs, ys = placed[..., 0], placed[..., 1]
     shapely.prepare(body)
@@ -534,7 +502,7 @@ def _cutter_remedy(pair, cutter: ShaperCutter, add, sh) -> str:
         try:
             other = replace(cutter, teeth=z)
             for k, frame in enumerate(frames):
-                _check_cutter_fits(frame, other, internal=k == r, shift=sh[k])
+                other.check_fits(frame, internal=k == r, shift=sh[k])
             lim = pair_limits(
                 pair, other, ring_addendum=add[r], pinion_addendum=add[p], ring_shift=sh[r], pinion_shift=sh[p]
             )
@@ -553,7 +521,7 @@ def _cutter_remedy(pair, cutter: ShaperCutter, add, sh) -> str:
 
 def generate_pair(
     pair,
-    cutter: ShaperCutter,
+    cutter: Cutter,
     teeth: tuple[int, int],
     *,
     backlash: float | None = None,
@@ -592,7 +560,7 @@ def generate_pair(
     cutter = replace(cutter, thickening=j / 2)
     if ring is not None:
         for k, curve in enumerate((pair.driver, pair.driven)):  # a cutter that cannot roll says so first
-            _check_cutter_fits(ArcFrame.from_curve(curve), cutter, internal=(k == 0) == (ring == "driver"), shift=sh[k])
+            cutter.check_fits(ArcFrame.from_curve(curve), internal=(k == 0) == (ring == "driver"), shift=sh[k])
         r, p = (0, 1) if ring == "driver" else (1, 0)
         names = ("ring", "planet")
 
@@ -728,7 +696,7 @@ def _tip_lands(tip, cut, frame, s_centres, side, offset, phase):
 
 def boolean_reference(
     curve: PitchCurve,
-    cutter: ShaperCutter,
+    cutter: Cutter,
     teeth: int,
     positions: int,
     *,
@@ -753,8 +721,11 @@ def boolean_reference(
     frame = ArcFrame.from_curve(curve)
     pitch = frame.length / teeth
     idx = range(teeth) if spaces is None else spaces
-    outline = cutter.outline(per_piece=per_piece)
-    if cutter_teeth is not None and cutter_teeth < cutter.teeth:
+    if isinstance(cutter, RackCutter):
+        outline = cutter.outline(per_piece=per_piece, teeth=cutter_teeth or 9)
+    else:
+        outline = cutter.outline(per_piece=per_piece)
+    if isinstance(cutter, ShaperCutter) and cutter_teeth is not None and cutter_teeth < cutter.teeth:
         per_tooth = len(outline) // cutter.teeth
         half = cutter_teeth // 2
         teeth_pts = np.roll(outline, half * per_tooth, axis=0)[: cutter_teeth * per_tooth]
@@ -763,7 +734,7 @@ def boolean_reference(
     for j in idx:
         sc = j * pitch
         s = sc + pitch * np.linspace(-window, window, int(2 * window * positions) + 1)
-        c, psi, _, _, _ = _placement(frame, cutter, s, sc, side, shift)
+        c, psi = cutter.placement(frame, s, sc, side, shift)
         polys.extend(shapely.polygons(_on_gear(c[:, None, :], psi[:, None], outline)))
     cut = shapely.union_all(polys)
     tip = _tip_region(frame, side * (addendum + shift) * m, CHORD_TOLERANCE)

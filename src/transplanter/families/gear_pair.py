@@ -29,7 +29,7 @@ import inspect
 import math
 from pathlib import Path
 
-from transplanter.cutter import ShaperCutter
+from transplanter.cutter import RackCutter, ShaperCutter
 from transplanter.errors import GeometryError, SpecError, check_int, check_number
 from transplanter.export import atomic_write
 from transplanter.families.build import Family, build_family
@@ -84,6 +84,7 @@ def pair_family(
     ring: str = "driven",
     backlash: float | None = None,
     cutter_teeth: int | None = None,
+    rack: bool = False,
     width: float = DEFAULT_WIDTH,
     name: str = "pair",
 ) -> Family:
@@ -107,6 +108,9 @@ def pair_family(
         Circumferential backlash at the pitch point, mm; None: the ISO/TR 10064-2 default.
     cutter_teeth : int or None
         Teeth of the shaper cutter; None: the first of ``SCREEN_CUTTERS`` that cuts both gears.
+    rack : bool
+        Cut with a rack cutter (hob) instead: external pairs whose pitch curves have no concave
+        part.
     width : float
         Face width, mm.
     name : str
@@ -118,7 +122,11 @@ def pair_family(
     mesh = "internal" if internal else "external"
     found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring)
     pair, sizing = size_pair(found.pair, teeth, module, centre_distance)
-    if cutter_teeth is None:
+    if rack:
+        if cutter_teeth is not None:
+            raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
+        cutter = RackCutter(sizing.module)
+    elif cutter_teeth is None:
         cutter = _cutter(pair, sizing.teeth, sizing.module, backlash)
     else:
         cutter = ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), sizing.module)
@@ -130,7 +138,7 @@ def pair_family(
     scaled = "" if found.closure_scale == 1.0 else f"; ratio scaled by {found.closure_scale:.9g} to close"
     description = (
         f"{mesh} pair of {spec!r}: {sizing.teeth[0]}/{sizing.teeth[1]} teeth, m = {sizing.module:.6g} mm, "
-        f"a = {pair.centre_distance:.6g} mm, shaper cutter z0 = {cutter.teeth}{scaled}"
+        f"a = {pair.centre_distance:.6g} mm, {cutter.label}{scaled}"
     )
     return Family(name, description, (study,))
 

@@ -13,7 +13,7 @@ import shapely
 
 from transplanter import dxf, formats, plots, solids, validate
 from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
-from transplanter.cutter import ShaperCutter
+from transplanter.cutter import Cutter, RackCutter, ShaperCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
@@ -113,7 +113,7 @@ class ToothedPairStudy(StudyDefaults):
 
     name: str
     pair: GearPair
-    cutter: ShaperCutter
+    cutter: Cutter
     teeth: int
     allow_undercut: bool = False
     rejected: tuple[tuple[str, int, ShaperCutter], ...] = ()
@@ -134,8 +134,10 @@ class ToothedPairStudy(StudyDefaults):
     def __post_init__(self) -> None:
         if not isinstance(self.pair, GearPair):
             raise SpecError(f"{self.name}: pair must be a pitch.GearPair, got {type(self.pair).__name__}")
-        if not isinstance(self.cutter, ShaperCutter):
-            raise SpecError(f"{self.name}: cutter must be a ShaperCutter, got {type(self.cutter).__name__}")
+        if not isinstance(self.cutter, Cutter):
+            raise SpecError(
+                f"{self.name}: cutter must be a cutter (ShaperCutter, RackCutter), got {type(self.cutter).__name__}"
+            )
         check_int("mesh_steps", self.mesh_steps, 4, 100_000)
         check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
         if self.making is not None and (len(self.making) != 2 or not all(isinstance(m, Making) for m in self.making)):
@@ -398,7 +400,8 @@ class ToothedPairStudy(StudyDefaults):
             "teeth": list(sizing.teeth),
             "module_mm": rounded(sizing.module, 12),
             "cutter": {
-                "teeth": c.teeth,
+                "kind": "rack" if isinstance(c, RackCutter) else "shaper",
+                "teeth": getattr(c, "teeth", None),
                 "pressure_angle_deg": rounded(math.degrees(c.pressure_angle)),
                 "addendum": c.addendum,
                 "dedendum": c.dedendum,
