@@ -17,10 +17,10 @@ def _files(folder):
 
 def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys):
     """Cut by a rack cutter (hob); the ring below by a shaper cutter the call chooses."""
-    args = ["pair", "ellipse:0.15:2", "--teeth", "24", "--module", "2", "--rack", "-o", str(tmp_path)]
+    args = ["pair", "ellipse:0.1:2", "--teeth", "30", "--module", "2", "--rack", "-o", str(tmp_path)]
     assert cli.main(args) == 0
     out = capsys.readouterr().out
-    assert "24/24 teeth, m = 2 mm" in out and "rack cutter (hob)" in out and "ok ->" in out
+    assert "30/30 teeth, m = 2 mm" in out and "rack cutter (hob)" in out and "ok ->" in out
     folder = tmp_path / "pair"
     manifest = json.loads((folder / "manifest.json").read_text())
     rec = manifest["parts"]["pair"]
@@ -38,7 +38,7 @@ def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys)
     assert low <= mesh["backlash_mm"][0] and mesh["backlash_mm"][1] <= high and mesh["contact_ratio"] > 1
     # the part script left beside the folder states the call; rebuilding it gives the same files
     script = tmp_path / "pair.py"
-    assert "pair_family(" in script.read_text() and "'ellipse:0.15:2'" in script.read_text()
+    assert "pair_family(" in script.read_text() and "'ellipse:0.1:2'" in script.read_text()
     assert "rack=True" in script.read_text()
     again = tmp_path / "again"
     assert cli.main(["build", str(script), "-o", str(again)]) == 0

@@ -670,7 +670,8 @@ def _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tol
         j = int(np.argmax(depth))
         raise GeometryError(
             f"undercut at tooth space {j}: {depth[j] * 1000:.1f} µm of involute flank is cut "
-            "away by the cutter tip (limit 0); use a profile shift, fewer cutter teeth or allow_undercut=True"
+            "away by the cutter tip (limit 0); use a profile shift, a cutter with fewer teeth (a shaper cutter "
+            "instead of a rack) or allow_undercut=True"
         )
     return out
 
