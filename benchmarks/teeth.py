@@ -16,11 +16,16 @@ Run: python benchmarks/teeth.py
 """
 
 import statistics
+import sys
 import time
+from pathlib import Path
 
 from transplanter.cutter import ShaperCutter
 from transplanter.pitch import GearPair, PitchCurve
-from transplanter.teeth import boolean_reference, flank_deviation, generate
+from transplanter.teeth import generate
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from reference_teeth import boolean_reference, flank_deviation  # noqa: E402
 
 MODULE = 2.0
 TARGET = 1e-3  # mm

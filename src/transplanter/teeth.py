@@ -29,8 +29,8 @@ The swept tooth space is the region bounded by the envelope, closed on the free 
 where the envelope folds (undercut) shapely's ``make_valid(method="structure")`` takes the
 union of its loops. The gear is the blank (inside the tip curve, offset ``(h_a + x) m`` from
 the pitch curve to the free side) minus the spaces; a ring is a rim disc minus the tip region
-and the spaces. :func:`boolean_reference` is the brute-force Boolean subtraction of cutter
-positions, kept only as the reference for tests and benchmarks.
+and the spaces. The brute-force Boolean subtraction of cutter positions is the reference for tests and
+benchmarks (``tests/reference_teeth.py``), not part of the library.
 
 Checks, each naming the tooth and the limit: cutter radius against the smallest concave
 (external) or convex (ring) radius of curvature, pitch-curve perimeter against ``z π m``,
@@ -50,7 +50,7 @@ from scipy.interpolate import PPoly
 from scipy.spatial import cKDTree
 
 from transplanter.backlash import resolve_backlash
-from transplanter.cutter import Cutter, RackCutter, ShaperCutter
+from transplanter.cutter import Cutter, ShaperCutter
 from transplanter.errors import GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
 from transplanter.pitch.curve import PitchCurve
@@ -64,8 +64,6 @@ __all__ = [
     "generate",
     "generate_pair",
     "per_gear",
-    "boolean_reference",
-    "flank_deviation",
     "secondary_cut",
 ]
 
@@ -693,73 +691,3 @@ def _tip_lands(tip, cut, frame, s_centres, side, offset, phase):
         t = int(math.floor(probe_s[k] / pitch - phase)) % len(s_centres)
         lands[t] += piece.length
     return lands
-
-
-def boolean_reference(
-    curve: PitchCurve,
-    cutter: Cutter,
-    teeth: int,
-    positions: int,
-    *,
-    internal: bool = False,
-    shift: float = 0.0,
-    addendum: float = 1.0,
-    spaces: list[int] | None = None,
-    window: float = 1.5,
-    cutter_teeth: int | None = 5,
-    per_piece: int = 48,
-) -> shapely.Geometry:
-    """Brute force: blank minus the union of the cutter outline at ``positions`` rolls per pitch.
-
-    Only ``spaces`` (default all) are cut, each over ``± window`` pitches around its centre,
-    by the ``cutter_teeth`` teeth nearest the contact (a sector of the cutter; None = the whole
-    cutter), each cutter tooth outline sampled with ``per_piece`` points per profile piece.
-    Kept as the reference for tests and benchmarks; the result is the gear body near those
-    spaces (cusps between positions leave material, never overcut).
-    """
-    m = cutter.module
-    side = -1.0 if internal else 1.0
-    frame = ArcFrame.from_curve(curve)
-    pitch = frame.length / teeth
-    idx = range(teeth) if spaces is None else spaces
-    if isinstance(cutter, RackCutter):
-        outline = cutter.outline(per_piece=per_piece, teeth=cutter_teeth or 9)
-    else:
-        outline = cutter.outline(per_piece=per_piece)
-    if isinstance(cutter, ShaperCutter) and cutter_teeth is not None and cutter_teeth < cutter.teeth:
-        per_tooth = len(outline) // cutter.teeth
-        half = cutter_teeth // 2
-        teeth_pts = np.roll(outline, half * per_tooth, axis=0)[: cutter_teeth * per_tooth]
-        outline = np.concatenate([teeth_pts, [[0.0, 0.0]]])
-    polys = []
-    for j in idx:
-        sc = j * pitch
-        s = sc + pitch * np.linspace(-window, window, int(2 * window * positions) + 1)
-        c, psi = cutter.placement(frame, s, sc, side, shift)
-        polys.extend(shapely.polygons(_on_gear(c[:, None, :], psi[:, None], outline)))
-    cut = shapely.union_all(polys)
-    tip = _tip_region(frame, side * (addendum + shift) * m, CHORD_TOLERANCE)
-    if internal:
-        r = 2 * float(np.max(np.linalg.norm(_offset(frame, 3 * m, CHORD_TOLERANCE), axis=1)))
-        disc = shapely.Point(0, 0).buffer(r, 256)
-        return shapely.difference(disc, shapely.union(tip, cut))
-    return shapely.difference(tip, cut)
-
-
-def flank_deviation(gear: ToothedGear, reference: shapely.Geometry, spaces: list[int] | None = None) -> float:
-    """Largest distance (mm) from the exact flank points of ``spaces`` to the reference boundary.
-
-    Only flank points inside the gear's tip region and on the gear's boundary count (trimmed or
-    undercut parts are excluded).
-    """
-    idx = range(gear.teeth) if spaces is None else spaces
-    body_boundary = gear.polygon.boundary
-    ref_boundary = reference.boundary
-    worst = 0.0
-    for j in idx:
-        sp = gear.spaces[j]
-        pts = shapely.points(np.concatenate([sp.lower, sp.upper]))
-        on = shapely.distance(body_boundary, pts) < 1e-6
-        if on.any():
-            worst = max(worst, float(shapely.distance(ref_boundary, pts[on]).max()))
-    return worst
