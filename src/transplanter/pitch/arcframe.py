@@ -11,7 +11,7 @@ Examples
 >>> from transplanter.pitch import PitchCurve
 >>> frame = ArcFrame.from_curve(PitchCurve.circle(10.0))
 >>> p, t, n, k = frame.at(np.array([0.0, 10 * np.pi]))  # start, and half way round
->>> round(frame.length, 9), np.round(p, 9).tolist(), np.round(k, 9).tolist()
+>>> round(frame.length, 9), (np.round(p, 9) + 0.0).tolist(), np.round(k, 9).tolist()
 (62.831853072, [[10.0, 0.0], [-10.0, 0.0]], [0.1, 0.1])
 """
 
