@@ -108,11 +108,6 @@ def train(r11: float | None = None, degree: int = 3) -> DifferentialTrain:
 VARIANTS = tuple((f"r11 = {r:g} mm", (r, 3)) for r in (94.0, 96.0, 98.0, 100.0)) + (("quintic spline", (None, 5)),)
 
 
-def cutter_for(pair: GearPair, ring_teeth: int, cutter_teeth: int) -> ShaperCutter:
-    _, sizing = pair.sized(teeth=ring_teeth)
-    return ShaperCutter(cutter_teeth, sizing.module, tip_fillet=0.1)
-
-
 def family() -> Family:
     pair = gear_pair()
     parts = published_parts(pair) + optimised_parts()
@@ -130,7 +125,7 @@ def published_parts(pair: GearPair) -> tuple:
         ToothedPairStudy(
             "ring_planet_teeth",
             pair,
-            cutter_for(pair, FINE_RING_TEETH, FINE_CUTTER_TEETH),
+            ShaperCutter(FINE_CUTTER_TEETH, tip_fillet=0.1),
             teeth=FINE_RING_TEETH,
             making=(RING_MAKING, PLANET_MAKING),
             # the teeth mesh at the pitch point but foul 5-12 mm from it (see the docstring):
@@ -140,8 +135,8 @@ def published_parts(pair: GearPair) -> tuple:
             trim_ring_tips=False,
             train=DifferentialTrain(pair, ARM, CARRIER_START, planets=3),
             rejected=(
-                ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, cutter_for(pair, RING_TEETH, 12)),
-                ("m = 0.71 mm (320/80 teeth, 8-tooth cutter)", 320, cutter_for(pair, 320, 8)),
+                ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, ShaperCutter(12, tip_fillet=0.1)),
+                ("m = 0.71 mm (320/80 teeth, 8-tooth cutter)", 320, ShaperCutter(8, tip_fillet=0.1)),
             ),
         ),
         PlanetaryStudy(
@@ -287,7 +282,7 @@ def optimised_parts() -> tuple:
         ToothedPairStudy(
             "optimised_ring_planet",
             pair,
-            ShaperCutter(screen.cutter_teeth, module),
+            ShaperCutter(screen.cutter_teeth),
             teeth=screen.teeth[0],
             making=(ring_making, planet_making),
             addendum=(screen.ring_addendum, screen.pinion_addendum),

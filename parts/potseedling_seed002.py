@@ -130,7 +130,7 @@ GEAR_MAKING = Making(width=10.0, features=Features(bore=12.0))
 def _toothed(pair):
     """The stage sized to MODULE, cut by a 12-tooth shaper cutter."""
     sized, sizing = pair.sized(module=MODULE)
-    return sized, ShaperCutter(12, MODULE), sizing.teeth[0]
+    return sized, ShaperCutter(12), sizing.teeth[0]
 
 
 def family() -> Family:

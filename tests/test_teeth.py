@@ -290,3 +290,22 @@ def test_a_rack_refuses_rings_and_concave_pitch_curves():
     pair, sizing = GearPair.from_driver(concave, "external", 1).sized(module=1.0)
     with pytest.raises(GeometryError, match="cannot cut the concave part of the pitch curve at arc length"):
         generate_pair(pair, RackCutter(1.0), sizing.teeth)
+
+
+def test_a_cutter_without_a_module_takes_its_studys():
+    """Sizing stated once: a cutter given without a module is sized by the study; on its own
+    it cannot cut, and its thickening (mm) waits for the module too."""
+    from transplanter.cutter import RackCutter
+    from transplanter.families import ToothedPairStudy
+
+    pair = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.1, 2), "external", 2)
+    with pytest.raises(SpecError, match="the cutter has no module"):
+        generate(pair.sized(teeth=30)[0].driver, ShaperCutter(12), 30)
+    with pytest.raises(SpecError, match="thickening \\(mm\\) needs its module"):
+        ShaperCutter(12, thickening=0.05)
+    for unsized in (ShaperCutter(12), RackCutter()):
+        study = ToothedPairStudy("p", pair, unsized, teeth=30)
+        module = pair.sized(teeth=30)[1].module
+        assert study._tool == unsized.sized(module) and study._tool.module == module
+    with pytest.raises(SpecError, match="cutter module = 3.0 is out of range"):
+        assert ToothedPairStudy("p", pair, ShaperCutter(12, 3.0), teeth=30).design_backlash > 0

@@ -37,7 +37,7 @@ True
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -78,6 +78,17 @@ class Cutter(Protocol):
     def outline(self, per_piece: int = 24) -> np.ndarray: ...
 
 
+def _check_shape(cutter) -> None:
+    """The checks of a cutter's shape that need no module (pressure angle, addendum, dedendum,
+    tip fillet; a thickening needs the module and must be 0 until then)."""
+    check_number("cutter pressure_angle", cutter.pressure_angle, math.radians(10), math.radians(35), unit="rad")
+    check_number("cutter addendum", cutter.addendum, 0.5, 2.0, unit="m")
+    check_number("cutter dedendum", cutter.dedendum, 0.0, 3.0, low_open=True, unit="m")
+    check_number("cutter tip_fillet", cutter.tip_fillet, 0.0, 0.5, unit="m")
+    if cutter.thickening != 0:
+        raise SpecError("a cutter's thickening (mm) needs its module: give both, or neither")
+
+
 def involute(angle):
     """inv α = tan α - α."""
     return np.tan(angle) - angle
@@ -106,7 +117,7 @@ class ShaperCutter:
     """
 
     teeth: int
-    module: float
+    module: float | None = None
     pressure_angle: float = math.radians(20.0)
     addendum: float = 1.25
     dedendum: float = 1.35
@@ -115,6 +126,9 @@ class ShaperCutter:
 
     def __post_init__(self) -> None:
         check_int("cutter teeth", self.teeth, 6, 1000)
+        if self.module is None:  # sized later, by the study that uses it (``sized``)
+            _check_shape(self)
+            return
         check_number("cutter module", self.module, 0.01, 100.0, unit="mm")
         check_number("cutter pressure_angle", self.pressure_angle, math.radians(10), math.radians(35), unit="rad")
         # a cutter's addendum is the gear's dedendum (~1.25 m); past 2 m its tip outruns the involute
@@ -322,6 +336,10 @@ class ShaperCutter:
                 f"curve at arc length {where:.2f} mm; use a cutter with fewer teeth or a smoother curve"
             )
 
+    def sized(self, module: float) -> ShaperCutter:
+        """This cutter at ``module`` (mm): a cutter stated without one takes its study's."""
+        return replace(self, module=module)
+
     @property
     def label(self) -> str:
         return f"shaper cutter z0 = {self.teeth}"
@@ -364,7 +382,7 @@ class RackCutter:
     (True, [2.5, 0.0])
     """
 
-    module: float
+    module: float | None = None
     pressure_angle: float = math.radians(20.0)
     addendum: float = 1.25
     dedendum: float = 1.35
@@ -372,6 +390,9 @@ class RackCutter:
     thickening: float = 0.0
 
     def __post_init__(self) -> None:
+        if self.module is None:  # sized later, by the study that uses it (``sized``)
+            _check_shape(self)
+            return
         check_number("cutter module", self.module, 0.01, 100.0, unit="mm")
         check_number("cutter pressure_angle", self.pressure_angle, math.radians(10), math.radians(35), unit="rad")
         check_number("cutter addendum", self.addendum, 0.5, 2.0, unit="m")
@@ -389,6 +410,10 @@ class RackCutter:
     def pitch(self) -> float:
         """Circular pitch π m, mm."""
         return math.pi * self.module
+
+    def sized(self, module: float) -> RackCutter:
+        """This rack at ``module`` (mm): a rack stated without one takes its study's."""
+        return replace(self, module=module)
 
     @property
     def label(self) -> str:

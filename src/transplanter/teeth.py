@@ -295,6 +295,8 @@ def generate(
     """
     if not isinstance(cutter, Cutter):
         raise SpecError(f"cutter must be a cutter (ShaperCutter, RackCutter), got {type(cutter).__name__}")
+    if cutter.module is None:
+        raise SpecError("the cutter has no module: give it one (cutter.sized(m)), or leave it to a ToothedPairStudy")
     if not isinstance(curve, PitchCurve):
         raise SpecError(f"curve must be a PitchCurve, got {type(curve).__name__}")
     m = cutter.module

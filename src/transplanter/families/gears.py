@@ -13,7 +13,7 @@ import shapely
 
 from transplanter import dxf, formats, plots, solids, validate
 from transplanter.backlash import backlash_band, resolve_backlash, tolerance_budget
-from transplanter.cutter import Cutter, RackCutter, ShaperCutter
+from transplanter.cutter import Cutter, RackCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
@@ -72,6 +72,9 @@ def _timing_mark(gear: ToothedGear, features: solids.Features) -> tuple[float, f
 class ToothedPairStudy(StudyDefaults):
     """Teeth of both gears of ``pair`` cut by ``cutter``; ``teeth`` is the driver's tooth count.
 
+    **Sizing is stated once**: the pair is sized by ``teeth``, and a cutter given without a module
+    (``ShaperCutter(12)``, ``RackCutter()``) takes the pair's; one given with a module must agree.
+
     ``rejected`` lists ``(label, teeth, cutter)`` alternatives (e.g. a published module) that
     are tried and must fail: their errors go into the manifest as findings.
 
@@ -116,7 +119,7 @@ class ToothedPairStudy(StudyDefaults):
     cutter: Cutter
     teeth: int
     allow_undercut: bool = False
-    rejected: tuple[tuple[str, int, ShaperCutter], ...] = ()
+    rejected: tuple[tuple[str, int, Cutter], ...] = ()
     making: tuple[Making, Making] | None = None
     must_mesh: bool = True
     train: DifferentialTrain | None = None
@@ -145,7 +148,7 @@ class ToothedPairStudy(StudyDefaults):
 
     def _sized(self) -> tuple[GearPair, object]:
         pair, sizing = self.pair.sized(teeth=self.teeth)
-        if abs(sizing.module - self.cutter.module) > 1e-9 * sizing.module:
+        if self.cutter.module is not None and abs(sizing.module - self.cutter.module) > 1e-9 * sizing.module:
             raise SpecError.out_of_range(
                 "cutter module", self.cutter.module, f"the pair's module {sizing.module!r} mm at {self.teeth} teeth"
             )
@@ -178,10 +181,17 @@ class ToothedPairStudy(StudyDefaults):
         return out
 
     @cached_property
+    def _tool(self) -> Cutter:
+        """The cutter at the pair's module: as given, or sized here when it was given without one
+        (the module is then stated once, by the sizing)."""
+        module = self._sized()[1].module
+        return self.cutter if self.cutter.module is not None else self.cutter.sized(module)
+
+    @cached_property
     def design_backlash(self) -> float:
         """The circumferential backlash the pair is cut for, mm."""
         pair, sizing = self._sized()
-        c = self.cutter
+        c = self._tool
         return resolve_backlash(self.backlash, c.thickening, sizing.module, pair.centre_distance, c.pressure_angle)
 
     @cached_property
@@ -386,7 +396,7 @@ class ToothedPairStudy(StudyDefaults):
         requested = per_gear("addendum", self.addendum)
         gears = generate_pair(
             pair,
-            dataclasses.replace(self.cutter, thickening=0.0),
+            dataclasses.replace(self._tool, thickening=0.0),
             sizing.teeth,
             backlash=self.design_backlash,
             addendum=self.addendum,
@@ -395,7 +405,7 @@ class ToothedPairStudy(StudyDefaults):
             check_interference=self.must_mesh,
             allow_undercut=self.allow_undercut,
         )
-        c = self.cutter
+        c = self._tool
         params = {
             "teeth": list(sizing.teeth),
             "module_mm": rounded(sizing.module, 12),
@@ -499,7 +509,7 @@ class ToothedPairStudy(StudyDefaults):
             try:
                 generate_pair(
                     alt,
-                    cutter,
+                    cutter if cutter.module is not None else cutter.sized(alt_sizing.module),
                     alt_sizing.teeth,
                     addendum=self.addendum,
                     trim_ring_tips=self.trim_ring_tips,
