@@ -78,15 +78,22 @@ class Cutter(Protocol):
     def outline(self, per_piece: int = 24) -> np.ndarray: ...
 
 
-def _check_shape(cutter) -> None:
-    """The checks of a cutter's shape that need no module (pressure angle, addendum, dedendum,
-    tip fillet; a thickening needs the module and must be 0 until then)."""
+def _check_proportions(cutter) -> bool:
+    """Check a cutter's proportions (pressure angle; addendum, dedendum, tip fillet in modules)
+    and, when it has one, its module and thickening (mm). False for a cutter without a module
+    (sized later by its study), whose thickening must then be 0."""
     check_number("cutter pressure_angle", cutter.pressure_angle, math.radians(10), math.radians(35), unit="rad")
+    # a cutter's addendum is the gear's dedendum (~1.25 m); past 2 m its tip outruns the involute
     check_number("cutter addendum", cutter.addendum, 0.5, 2.0, unit="m")
     check_number("cutter dedendum", cutter.dedendum, 0.0, 3.0, low_open=True, unit="m")
     check_number("cutter tip_fillet", cutter.tip_fillet, 0.0, 0.5, unit="m")
-    if cutter.thickening != 0:
-        raise SpecError("a cutter's thickening (mm) needs its module: give both, or neither")
+    if cutter.module is None:
+        if cutter.thickening != 0:
+            raise SpecError("a cutter's thickening (mm) needs its module: give both, or neither")
+        return False
+    m = check_number("cutter module", cutter.module, 0.01, 100.0, unit="mm")
+    check_number("cutter thickening", cutter.thickening, -m / 2, m / 2, low_open=True, high_open=True, unit="mm")
+    return True
 
 
 def involute(angle):
@@ -126,17 +133,8 @@ class ShaperCutter:
 
     def __post_init__(self) -> None:
         check_int("cutter teeth", self.teeth, 6, 1000)
-        if self.module is None:  # sized later, by the study that uses it (``sized``)
-            _check_shape(self)
+        if not _check_proportions(self):  # sized later, by the study that uses it (``sized``)
             return
-        check_number("cutter module", self.module, 0.01, 100.0, unit="mm")
-        check_number("cutter pressure_angle", self.pressure_angle, math.radians(10), math.radians(35), unit="rad")
-        # a cutter's addendum is the gear's dedendum (~1.25 m); past 2 m its tip outruns the involute
-        check_number("cutter addendum", self.addendum, 0.5, 2.0, unit="m")
-        check_number("cutter dedendum", self.dedendum, 0.0, 3.0, low_open=True, unit="m")
-        check_number("cutter tip_fillet", self.tip_fillet, 0.0, 0.5, unit="m")
-        m = float(self.module)
-        check_number("cutter thickening", self.thickening, -m / 2, m / 2, low_open=True, high_open=True, unit="mm")
         if self.root_radius <= 0:
             raise SpecError.out_of_range("cutter dedendum", self.dedendum, f"< z_c/2 = {self.teeth / 2}")
         self._geometry  # noqa: B018 - build and validate the tip now
@@ -390,16 +388,8 @@ class RackCutter:
     thickening: float = 0.0
 
     def __post_init__(self) -> None:
-        if self.module is None:  # sized later, by the study that uses it (``sized``)
-            _check_shape(self)
+        if not _check_proportions(self):  # sized later, by the study that uses it (``sized``)
             return
-        check_number("cutter module", self.module, 0.01, 100.0, unit="mm")
-        check_number("cutter pressure_angle", self.pressure_angle, math.radians(10), math.radians(35), unit="rad")
-        check_number("cutter addendum", self.addendum, 0.5, 2.0, unit="m")
-        check_number("cutter dedendum", self.dedendum, 0.0, 3.0, low_open=True, unit="m")
-        check_number("cutter tip_fillet", self.tip_fillet, 0.0, 0.5, unit="m")
-        m = float(self.module)
-        check_number("cutter thickening", self.thickening, -m / 2, m / 2, low_open=True, high_open=True, unit="mm")
         if self._geometry["tip_half"] <= 0:
             raise GeometryError(
                 f"the rack tooth is pointed: its tip land vanishes (addendum {self.addendum} m, fillet "
