@@ -38,7 +38,7 @@ def main():
     fam = runpy.run_path(str(ROOT / "parts" / "potseedling_seed002.py"))["family"]()
     study = next(p for p in fam.parts if p.name == "gears_2_3")
     pair, sizing = study._sized()
-    g1, g2 = generate_pair(pair, study.cutter, sizing.teeth, backlash=study.design_backlash)
+    g1, g2 = generate_pair(pair, study.tool, sizing.teeth, backlash=study.design_backlash)
     args = (pair, g1.polygon, g2.polygon, sizing.module)
     ours, base = [], []
     for _ in range(3):

@@ -306,6 +306,6 @@ def test_a_cutter_without_a_module_takes_its_studys():
     for unsized in (ShaperCutter(12), RackCutter()):
         study = ToothedPairStudy("p", pair, unsized, teeth=30)
         module = pair.sized(teeth=30)[1].module
-        assert study._tool == unsized.sized(module) and study._tool.module == module
+        assert study.tool == unsized.sized(module) and study.tool.module == module
     with pytest.raises(SpecError, match="cutter module = 3.0 is out of range"):
         assert ToothedPairStudy("p", pair, ShaperCutter(12, 3.0), teeth=30).design_backlash > 0

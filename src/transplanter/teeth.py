@@ -148,6 +148,14 @@ class ToothedGear:
         return int(np.argmin(np.linalg.norm(pp - np.asarray(point, dtype=float), axis=1)))
 
 
+def _require_cutter(cutter) -> None:
+    """SpecError unless ``cutter`` is a cutter with a module."""
+    if not isinstance(cutter, Cutter):
+        raise SpecError(f"cutter must be a cutter (ShaperCutter, RackCutter), got {type(cutter).__name__}")
+    if cutter.module is None:
+        raise SpecError("the cutter has no module: give it one (cutter.sized(m)), or leave it to a ToothedPairStudy")
+
+
 def _on_gear(c, psi, q) -> np.ndarray:
     """Cutter-frame points ``q`` turned by ``psi`` about, and moved to, cutter centres ``c``
     (gear frame); the arrays broadcast, so one placement per point or an outer product both work."""
@@ -293,10 +301,7 @@ def generate(
         Tooth-space centres at ``(j + phase) π m`` of arc length: 0 puts a space, 0.5 a tooth
         at the curve's start (a mating gear takes the other).
     """
-    if not isinstance(cutter, Cutter):
-        raise SpecError(f"cutter must be a cutter (ShaperCutter, RackCutter), got {type(cutter).__name__}")
-    if cutter.module is None:
-        raise SpecError("the cutter has no module: give it one (cutter.sized(m)), or leave it to a ToothedPairStudy")
+    _require_cutter(cutter)
     if not isinstance(curve, PitchCurve):
         raise SpecError(f"curve must be a PitchCurve, got {type(curve).__name__}")
     m = cutter.module
@@ -492,6 +497,7 @@ def generate_pair(
     ring = getattr(pair, "ring", None)
     add = list(per_gear("addendum", addendum))
     sh = per_gear("shift", shift)
+    _require_cutter(cutter)
     j = resolve_backlash(backlash, cutter.thickening, cutter.module, pair.centre_distance, cutter.pressure_angle)
     cutter = replace(cutter, thickening=j / 2)
     if ring is not None:

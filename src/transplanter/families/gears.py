@@ -181,7 +181,7 @@ class ToothedPairStudy(StudyDefaults):
         return out
 
     @cached_property
-    def _tool(self) -> Cutter:
+    def tool(self) -> Cutter:
         """The cutter at the pair's module: as given, or sized here when it was given without one
         (the module is then stated once, by the sizing)."""
         module = self._sized()[1].module
@@ -191,7 +191,7 @@ class ToothedPairStudy(StudyDefaults):
     def design_backlash(self) -> float:
         """The circumferential backlash the pair is cut for, mm."""
         pair, sizing = self._sized()
-        c = self._tool
+        c = self.tool
         return resolve_backlash(self.backlash, c.thickening, sizing.module, pair.centre_distance, c.pressure_angle)
 
     @cached_property
@@ -396,7 +396,7 @@ class ToothedPairStudy(StudyDefaults):
         requested = per_gear("addendum", self.addendum)
         gears = generate_pair(
             pair,
-            dataclasses.replace(self._tool, thickening=0.0),
+            dataclasses.replace(self.tool, thickening=0.0),
             sizing.teeth,
             backlash=self.design_backlash,
             addendum=self.addendum,
@@ -405,7 +405,7 @@ class ToothedPairStudy(StudyDefaults):
             check_interference=self.must_mesh,
             allow_undercut=self.allow_undercut,
         )
-        c = self._tool
+        c = self.tool
         params = {
             "teeth": list(sizing.teeth),
             "module_mm": rounded(sizing.module, 12),
