@@ -100,7 +100,7 @@ def test_seed004_teeth_foul_away_from_the_pitch_point(parts_dir):
     ns = runpy.run_path(str(parts_dir / "planetary_seed004.py"))
     pair, sizing = ns["gear_pair"]().sized(teeth=ns["FINE_RING_TEETH"])
     ring, planet = generate_pair(
-        pair, ns["cutter_for"](pair, ns["FINE_RING_TEETH"], 8), sizing.teeth, backlash=0.0, check_interference=False
+        pair, ShaperCutter(8, sizing.module, tip_fillet=0.1), sizing.teeth, backlash=0.0, check_interference=False
     )
     r = mesh_check(pair, ring.polygon, planet.polygon, sizing.module, steps=48, teeth=sizing.teeth[0])
     near = r.penetration - r.fouling
