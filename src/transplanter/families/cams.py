@@ -60,6 +60,7 @@ class CamStudy(StudyDefaults):
         return out
 
     def following_results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
+        """Figures, plot and problems of the follower run on each source (``following``)."""
         readable, unreadable, problems = formats.split_unreadable(reports)
         results: dict = {"tolerance_mm": FOLLOWER_TOL, **unreadable}
         for source, rep in sorted(readable.items()):
@@ -82,6 +83,8 @@ class CamStudy(StudyDefaults):
         return Checked(results, problems)
 
     def build(self, out: Path) -> Built:
+        """The cam profile and pitch curve (CSV), pressure angle and radius of curvature (JSON),
+        plots; with ``making`` the DXF, STL and STEP, and the follower run on the made contour."""
         cam = disc_cam(self.motion, self.follower, self.n, math.radians(self.max_pressure_angle_deg))
         k = int(np.argmax(cam.pressure_angle))
         f = self.follower

@@ -386,6 +386,9 @@ class ToothedPairStudy(StudyDefaults):
         return [f"{o.number} {o.name} = {o.value:.4g} {o.unit} (limit {o.limit})" for o in found if not o.ok]
 
     def build(self, out: Path) -> Built:
+        """Teeth of both gears (outlines CSV, JSON, plot); with ``making`` the shop files with
+        timing marks, the assembly data and 3MF, and the meshing check of outline, DXF and STL;
+        rejected alternatives as findings (see the class docstring)."""
         pair, sizing = self._sized()
         if self.train is not None and abs(self.train.pair.centre_distance - pair.centre_distance) > 1e-9:
             raise SpecError.out_of_range(

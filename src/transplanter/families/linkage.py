@@ -39,6 +39,7 @@ class ArmStudy(StudyDefaults):
 
     @property
     def name(self) -> str:
+        """The arm's name (its files' stem)."""
         return self.arm.name
 
     def tables(self) -> list[Table]:
@@ -48,6 +49,7 @@ class ArmStudy(StudyDefaults):
         return [Table(title, tuple((label, value, unit, None) for label, value, unit in m.table()))]
 
     def analysis_files(self) -> dict[str, bytes]:
+        """The tip path and kinematics plots (``transplanter analyse --plots``)."""
         return self.plot_files(self.arm.metrics(planting_depth=self.planting_depth))
 
     def plot_files(self, m: PlantingMetrics) -> dict[str, bytes]:
@@ -58,6 +60,8 @@ class ArmStudy(StudyDefaults):
         }
 
     def build(self, out: Path) -> Built:
+        """Seed 000 Table 2 metrics and transmission angles (JSON, CSV), the tip path and the
+        speed/acceleration diagrams."""
         m = self.arm.metrics(planting_depth=self.planting_depth)
         rows = m.table()
         fb = self.arm.linkage
@@ -94,6 +98,8 @@ class BalancingStudy(StudyDefaults):
     n_harmonics: int = 9
 
     def build(self, out: Path) -> Built:
+        """Shaking force and its harmonics, crank torque, counterweight and multi-arm phasing
+        (JSON), and plots."""
         fb = self.linkage
         fb.require_full_rotation()
         n = 720

@@ -49,6 +49,8 @@ class PitchPairStudy(StudyDefaults):
     require_convex: bool = False
 
     def build(self, out: Path) -> Built:
+        """Closure, ratio check, curvature, pressure angle, teeth and module (JSON), the curves as
+        CSV points, and plots."""
         pair, sizing = self.pair.sized(module=self.module, teeth=self.teeth)
         if self.require_convex:
             pair.driver.require_convex(f"{self.name} driver")

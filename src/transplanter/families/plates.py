@@ -198,6 +198,8 @@ class LinkPlatesStudy(StudyDefaults):
         ]
 
     def build(self, out: Path) -> Built:
+        """The four plates (DXF, STL, STEP), their 3MF at crank angle 0, and the tip path of the
+        four-bar rebuilt from the holes read back from the DXFs (``rebuilt``)."""
         files: dict[str, bytes] = {}
         results: dict = {}
         parts = {}

@@ -35,6 +35,8 @@ class SynthesisStudy(StudyDefaults):
     step: float = 0.05
 
     def build(self, out: Path) -> Built:
+        """Circle- and centre-point curves with the feasible region, link lengths and ratios, the
+        trajectory, plots."""
         ch = self.chain
         sample = ch.poses.sample(self.x_range, self.step)
         feasible = ch.poses.feasible(sample, link1=self.link_range, link2=self.link_range, **self.boxes)

@@ -86,6 +86,7 @@ class PlanetaryStudy(StudyDefaults):
         return [Table(f"{self.name}  (planetary, {self.train.planets} arms)", rows)]
 
     def metrics(self, train: DifferentialTrain | None = None) -> TransplantingMetrics:
+        """Seed 004's agronomic metrics of ``train`` (default: this study's) at its site."""
         tr = train or self.train
         radius = self.gearbox_radius
         if self.module is not None:
@@ -216,6 +217,8 @@ class PlanetaryStudy(StudyDefaults):
         return res, files
 
     def build(self, out: Path) -> Built:
+        """Agronomic metrics beside the published values, the variants, the trajectory (CSV),
+        plots; with made parts, the carrier plate and the trade-off of coarser modules."""
         m = self.metrics()
         tr = self.train
         extra_files: dict[str, bytes] = {}
