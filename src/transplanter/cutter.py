@@ -78,6 +78,18 @@ class Cutter(Protocol):
     def outline(self, per_piece: int = 24) -> np.ndarray: ...
 
 
+@dataclass(frozen=True, kw_only=True)
+class _Proportions:
+    """A cutter's tooth proportions, shared by the shaper and the rack (keyword fields): pressure
+    angle (rad); addendum, dedendum and tip fillet in modules; thickening in mm."""
+
+    pressure_angle: float = math.radians(20.0)
+    addendum: float = 1.25
+    dedendum: float = 1.35
+    tip_fillet: float = 0.2
+    thickening: float = 0.0
+
+
 def _check_proportions(cutter) -> bool:
     """Check a cutter's proportions (pressure angle; addendum, dedendum, tip fillet in modules)
     and, when it has one, its module and thickening (mm). False for a cutter without a module
@@ -102,7 +114,7 @@ def involute(angle):
 
 
 @dataclass(frozen=True)
-class ShaperCutter:
+class ShaperCutter(_Proportions):
     """Involute shaper cutter.
 
     Parameters
@@ -125,11 +137,6 @@ class ShaperCutter:
 
     teeth: int
     module: float | None = None
-    pressure_angle: float = math.radians(20.0)
-    addendum: float = 1.25
-    dedendum: float = 1.35
-    tip_fillet: float = 0.2
-    thickening: float = 0.0
 
     def __post_init__(self) -> None:
         check_int("cutter teeth", self.teeth, 6, 1000)
@@ -355,7 +362,7 @@ class ShaperCutter:
 
 
 @dataclass(frozen=True)
-class RackCutter:
+class RackCutter(_Proportions):
     """Involute rack (the basic rack of a hob), for external gears.
 
     Its teeth have straight flanks at the pressure angle α, a tip land ``addendum · m`` from the
@@ -381,11 +388,6 @@ class RackCutter:
     """
 
     module: float | None = None
-    pressure_angle: float = math.radians(20.0)
-    addendum: float = 1.25
-    dedendum: float = 1.35
-    tip_fillet: float = 0.2
-    thickening: float = 0.0
 
     def __post_init__(self) -> None:
         if not _check_proportions(self):  # sized later, by the study that uses it (``sized``)

@@ -21,6 +21,7 @@ __all__ = [
     "SOLID_VOLUME_REL",
     "PENETRATION_TOL",
     "AREA_ROUND_OFF_MM2",
+    "CONTACT_TOL_MM",
     "ONE_SIDED_MM",
     "READBACK_FLATTEN_MM",
     "ASSEMBLY_OVERLAP_MM3",
@@ -95,6 +96,10 @@ SOLID_VOLUME_REL = 1e-6
 #: overlap (mm²) of two polygons reported as 0: the round-off of GEOS's Booleans on outlines of
 #: ~100 mm (coordinates exact to ~1e-14 mm, areas to ~1e-12 mm²)
 AREA_ROUND_OFF_MM2 = 1e-12
+
+#: gap (mm) at which two flanks count as in contact in the meshing check: 2 µm — under the
+#: wire-EDM tolerance, and eight chord tolerances, so the chords of one contact count once
+CONTACT_TOL_MM = 2e-3
 
 #: overlap area (mm²) that counts as interference: the outlines are exact to 0.25 µm chords,
 #: so a zero-backlash pair overlaps by ~1e-4 mm² over a few teeth; real interference of a

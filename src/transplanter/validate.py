@@ -69,7 +69,7 @@ from scipy import optimize
 from transplanter import cams, contact
 from transplanter.errors import GeometryError, SpecError
 from transplanter.precision import significant
-from transplanter.tolerances import AREA_ROUND_OFF_MM2, PENETRATION_TOL
+from transplanter.tolerances import AREA_ROUND_OFF_MM2, CONTACT_TOL_MM, PENETRATION_TOL
 
 __all__ = [
     "MeshReport",
@@ -225,7 +225,7 @@ def mesh_check(
     module: float,
     steps: int = 120,
     window: float = 3.0,
-    contact_tol: float = 2e-3,
+    contact_tol: float = CONTACT_TOL_MM,
     teeth: int | None = None,
 ) -> MeshReport:
     """Mesh ``driver_polygon`` and ``driven_polygon`` (body frames) per ``pair``'s design ratio.
