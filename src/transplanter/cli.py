@@ -215,21 +215,9 @@ def _mesh_line(r: dict) -> str:
 def _cmd_pair(args: argparse.Namespace) -> int:
     from transplanter.families.gear_pair import gear_pair
 
-    manifest = gear_pair(
-        args.transmission,
-        args.output,
-        internal=args.internal,
-        teeth=args.teeth,
-        module=args.module,
-        centre_distance=args.centre_distance,
-        driven_lobes=args.driven_lobes,
-        ring=args.ring,
-        backlash=args.backlash,
-        cutter_teeth=args.cutter_teeth,
-        rack=args.rack,
-        width=args.width,
-        name=args.name,
-    )
+    names = ("internal", "teeth", "module", "centre_distance", "driven_lobes", "ring", "backlash", "cutter_teeth")
+    options = {k: getattr(args, k) for k in (*names, "rack", "width", "name")}
+    manifest = gear_pair(args.transmission, args.output, **options)
     folder = Path(args.output) / manifest["family"]
     print(manifest["description"])
     rec = manifest["parts"][args.name]

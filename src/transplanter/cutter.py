@@ -108,6 +108,27 @@ def _check_proportions(cutter) -> bool:
     return True
 
 
+def _whole_tooth(upper, tau):
+    """A tooth's point q, outward normal n and k = q × n at profile parameters τ ∈ [0, 7], from
+    its upper half ``upper(piece, t)`` (pieces 3..6, ``t`` from the tooth centre outwards): the
+    lower pieces mirror the upper ones, piece p (t) <-> piece 6 - p (1 - t), and the tip land,
+    piece 3, runs across the centre, so it is split at its middle."""
+    tau = np.asarray(tau, dtype=float)
+    if np.any((tau < 0) | (tau > 7)) or not np.all(np.isfinite(tau)):
+        raise SpecError("profile parameter τ must lie in [0, 7]")
+    piece = np.minimum(np.floor(tau), 6).astype(int)
+    t = tau - piece
+    lower = piece <= 2
+    land = piece == 3
+    up_piece = np.where(lower, 6 - piece, piece)
+    up_t = np.where(land, np.abs(2 * t - 1), np.where(lower, 1 - t, t))
+    q, n = upper(up_piece, up_t)
+    flip = lower | (land & (t < 0.5))
+    q[flip, 1] *= -1
+    n[flip, 1] *= -1
+    return q, n, q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
+
+
 def involute(angle):
     """inv α = tan α - α."""
     return np.tan(angle) - angle
@@ -269,24 +290,7 @@ class ShaperCutter(_Proportions):
 
     def profile(self, tau):
         """Point q (..., 2), outward unit normal n (..., 2) and k = q × n at profile parameters τ ∈ [0, 7]."""
-        tau = np.asarray(tau, dtype=float)
-        if np.any((tau < 0) | (tau > 7)) or not np.all(np.isfinite(tau)):
-            raise SpecError("profile parameter τ must lie in [0, 7]")
-        piece = np.minimum(np.floor(tau), 6).astype(int)
-        t = tau - piece
-        lower = piece <= 2
-        # lower pieces mirror the upper ones: piece p (t) <-> piece 6 - p (1 - t); the tip land
-        # piece 3 runs from -a_tip to +a_tip, so split it at its middle.
-        up_piece = np.where(lower, 6 - piece, piece)
-        up_t = np.where(lower, 1 - t, t)
-        land = piece == 3
-        up_t = np.where(land, np.abs(2 * t - 1), up_t)
-        q, n = self._upper(up_piece, up_t)
-        flip = lower | (land & (t < 0.5))
-        q[flip, 1] *= -1
-        n[flip, 1] *= -1
-        k = q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
-        return q, n, k
+        return _whole_tooth(self._upper, tau)
 
     # -- the envelope: where the cutter is at a roll, and which roll makes a point touch ---------
 
@@ -453,20 +457,7 @@ class RackCutter(_Proportions):
     def profile(self, tau):
         """Point q (..., 2) and outward unit normal n (..., 2) at τ ∈ [0, 7] (rack frame: x
         towards the gear, the reference line at x = 0), and k = q × n."""
-        tau = np.asarray(tau, dtype=float)
-        if np.any((tau < 0) | (tau > 7)) or not np.all(np.isfinite(tau)):
-            raise SpecError("profile parameter τ must lie in [0, 7]")
-        piece = np.minimum(np.floor(tau), 6).astype(int)
-        t = tau - piece
-        lower = piece <= 2
-        land = piece == 3
-        up_piece = np.where(lower, 6 - piece, piece)
-        up_t = np.where(land, np.abs(2 * t - 1), np.where(lower, 1 - t, t))
-        q, n = self._upper(up_piece, up_t)
-        flip = lower | (land & (t < 0.5))
-        q[flip, 1] *= -1
-        n[flip, 1] *= -1
-        return q, n, q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
+        return _whole_tooth(self._upper, tau)
 
     def placement(self, frame, s, s_centre, side: float, shift: float):
         """Rack-frame origin (the tooth centre on the reference line) and rotation at rolls ``s``:
