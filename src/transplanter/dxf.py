@@ -48,7 +48,7 @@ from ezdxf.math import bulge_to_arc
 
 from transplanter.contact import distance_to_ring
 from transplanter.errors import MAX_MAGNITUDE, ExportError, GeometryError, SpecError, check_number
-from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM, WIRE_EDM_TOLERANCE
+from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM, MIN_CONTOUR_AREA, WIRE_EDM_TOLERANCE
 
 __all__ = [
     "fit_arcs",
@@ -68,9 +68,6 @@ __all__ = [
 ]
 
 LAYERS = {"CUT": 7, "START_HOLES": 1, "ANNOTATION": 3}
-
-#: a closed contour enclosing less than this (mm²) is a degenerate sliver, not something to cut
-MIN_CONTOUR_AREA = 1e-6
 
 
 def _arc_dev(p0, t0, p1, pts):

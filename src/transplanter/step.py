@@ -41,13 +41,10 @@ import numpy as np
 
 from transplanter.dxf import bulge_area
 from transplanter.errors import ExportError, GeometryError
+from transplanter.tolerances import FLAT_ARC_RADIUS_MM
 
 __all__ = ["arcs_area", "prism", "released_memory", "step_bytes", "read_step", "SolidReport", "solid_report"]
 
-#: an arc of a larger radius (mm) — a nearly straight one the arc fit left — is written as the
-#: exact rational B-spline of the arc: STEP files carry 13 significant digits, so such a circle's
-#: centre would move by R·1e-13 (1 µm at 1e7 mm) and the arc's sagitta with it
-FLAT_ARC_RADIUS_MM = 1e5
 
 #: what the file says wrote it
 ORIGINATING_SYSTEM = "transplanter (OpenCASCADE STEP processor)"

@@ -53,7 +53,7 @@ from transplanter.errors import GeometryError, SpecError, TransplanterError, che
 from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
 from transplanter.pitch.arcframe import ArcFrame
 from transplanter.pitch.curve import PitchCurve
-from transplanter.tolerances import CHORD_TOLERANCE
+from transplanter.tolerances import CHORD_TOLERANCE, SPIKE_LENGTH
 
 __all__ = [
     "ArcFrame",
@@ -217,12 +217,6 @@ def _offset(frame: ArcFrame, distance: float, tolerance: float) -> np.ndarray:
     s = frame.length * np.arange(n) / n
     p, _, nrm, _ = frame.at(s)
     return p + distance * nrm
-
-
-#: a back-turn (> 90°) on segments shorter than this (mm) is an envelope artefact where two pieces
-#: meet (1.5 µm on a 20-tooth ellipse pair, 7.6 µm at a 17-tooth planet's root): a real tooth
-#: outline cannot turn back within 12.5 µm (its smallest fillet radius is tens of µm)
-SPIKE_LENGTH = 50 * CHORD_TOLERANCE
 
 
 def _despike(points: np.ndarray, length: float) -> np.ndarray:

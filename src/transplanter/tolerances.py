@@ -28,6 +28,10 @@ __all__ = [
     "TIP_PATH_TOL_MM",
     "FOLLOWER_TOL",
     "CHORD_TOLERANCE",
+    "MIN_CONTOUR_AREA",
+    "FLAT_ARC_RADIUS_MM",
+    "SPIKE_LENGTH",
+    "ARC_RADIUS_MM",
 ]
 
 #: A four-bar loop solved in closed form closes to round-off: links of up to a few
@@ -130,3 +134,21 @@ FOLLOWER_TOL = WIRE_EDM_TOLERANCE
 #: Largest chord error of the generated outline against the exact envelope, mm (0.25 µm:
 #: a quarter of the 1 µm flank budget, the rest is margin for the DXF arc fit).
 CHORD_TOLERANCE = 0.25e-3
+
+#: a closed contour enclosing less than this (mm²) is a degenerate sliver, not something to cut
+MIN_CONTOUR_AREA = 1e-6
+
+#: an arc of a larger radius (mm) — a nearly straight one the arc fit left — is written as the
+#: exact rational B-spline of the arc: STEP files carry 13 significant digits, so such a circle's
+#: centre would move by R·1e-13 (1 µm at 1e7 mm) and the arc's sagitta with it
+FLAT_ARC_RADIUS_MM = 1e5
+
+#: a back-turn (> 90°) on segments shorter than this (mm) is an envelope artefact where two pieces
+#: meet (1.5 µm on a 20-tooth ellipse pair, 7.6 µm at a 17-tooth planet's root): a real tooth
+#: outline cannot turn back within 12.5 µm (its smallest fillet radius is tens of µm)
+SPIKE_LENGTH = 50 * CHORD_TOLERANCE
+
+#: a DXF arc draws a hole or the nose when its radius is theirs within this, mm: the arcs are
+#: inset 0.3 µm and fitted within 0.25 µm (``tolerances.DXF_INSET_MM``), the blends between the
+#: nose and the finger's flanks differ by tens of µm
+ARC_RADIUS_MM = 2e-3

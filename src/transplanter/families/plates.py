@@ -42,14 +42,10 @@ from transplanter.linkage.planting import PlantingArm
 from transplanter.precision import rounded, significant
 from transplanter.solids import Features, circle_polygon
 from transplanter.threemf import placement
-from transplanter.tolerances import TIP_PATH_TOL_MM
+from transplanter.tolerances import ARC_RADIUS_MM, TIP_PATH_TOL_MM
 
 __all__ = ["Joint", "LinkPlatesStudy", "finger_for_centre_of_mass", "TIP_PATH_TOL_MM", "FILLET_MM"]
 
-#: a DXF arc draws a hole or the nose when its radius is theirs within this, mm: the arcs are
-#: inset 0.3 µm and fitted within 0.25 µm (``tolerances.DXF_INSET_MM``), the blends between the
-#: nose and the finger's flanks differ by tens of µm
-ARC_RADIUS_MM = 2e-3
 #: radius of the inside corners where the finger meets the coupler bar, mm
 FILLET_MM = 3.0
 #: crank positions of the tip-path comparison over one turn
