@@ -50,9 +50,9 @@ BORE_FRACTION = 0.4
 DEFAULT_WIDTH = 10.0
 
 
-def _bore(pair: GearPair, k: int, module: float) -> float:
+def _bore(pair: GearPair, k: int, cutter) -> float:
     curve = (pair.driver, pair.driven)[k]
-    root = curve.min_radius().value - 1.25 * module
+    root = curve.min_radius().value - cutter.addendum * cutter.module  # the gear's dedendum is the cutter's addendum
     return max(3.0, math.floor(2 * BORE_FRACTION * root) / 2)
 
 
@@ -131,7 +131,7 @@ def pair_family(
     else:
         cutter = ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), sizing.module)
     making = tuple(
-        Making(width, Features() if pair.ring == role else Features(_bore(pair, k, sizing.module), keyway=False))
+        Making(width, Features() if pair.ring == role else Features(_bore(pair, k, cutter), keyway=False))
         for k, role in enumerate(("driver", "driven"))
     )
     study = ToothedPairStudy(name, pair, cutter, sizing.teeth[0], making=making, backlash=backlash)

@@ -104,20 +104,19 @@ def check_shop_files(files: dict[str, bytes], widths: dict[str, float], assembly
     ``(file name, body names)``. Returns ``(results, problems)``."""
     results: dict = {}
     problems: list[str] = []
-    for stem, width in sorted(widths.items()):
-        names = (f"{stem}.step", f"{stem}.dxf")
-        if not all(n in files for n in names):
-            continue
+
+    def reread(fname: str, verify, *args) -> None:
         try:
-            results[names[0]] = formats.STEP.verify(stem, files[names[0]], files[names[1]], width)
-        except (GeometryError, ExportError) as exc:
-            results[names[0]] = {"error": str(exc)}
-            problems.append(f"{names[0]}: {exc}")
-    if assembly is not None and assembly[0] in files:
-        fname, bodies = assembly
-        try:
-            results[fname] = formats.THREEMF.verify(files[fname], bodies)
+            results[fname] = verify(*args)
         except (GeometryError, ExportError) as exc:
             results[fname] = {"error": str(exc)}
             problems.append(f"{fname}: {exc}")
+
+    for stem, width in sorted(widths.items()):
+        step_name, dxf_name = f"{stem}.step", f"{stem}.dxf"
+        if step_name in files and dxf_name in files:
+            reread(step_name, formats.STEP.verify, stem, files[step_name], files[dxf_name], width)
+    if assembly is not None and assembly[0] in files:
+        fname, bodies = assembly
+        reread(fname, formats.THREEMF.verify, files[fname], bodies)
     return results, problems

@@ -38,7 +38,7 @@ import numpy as np
 from transplanter.errors import SpecError, check_int, check_number, finite_positive
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.pair import GearPair, Mesh, _mesh
-from transplanter.pitch.periodic import Constant, FourierSeries, Periodic, PeriodicIntegral, PeriodicSpline
+from transplanter.pitch.periodic import Constant, FourierSeries, Periodic, PeriodicIntegral, PeriodicSpline, Scaled
 
 __all__ = ["Transmission", "transmission", "ratio_from_expression", "ratio_from_csv", "NAMED_CURVES"]
 
@@ -174,12 +174,7 @@ def _closing(ratio: Periodic) -> tuple[Periodic, float]:
     scale = 2 * math.pi / lobes / turn
     if abs(scale - 1) < 1e-12:
         return ratio, 1.0
-    if isinstance(ratio, Constant):
-        return Constant(ratio.value * scale), scale
-    if isinstance(ratio, FourierSeries):
-        a, b = np.array(ratio.a) * scale, np.array(ratio.b) * scale
-        return FourierSeries(ratio.a0 * scale, a, b, lobes=ratio.lobes_), scale
-    return PeriodicSpline(ratio.angles, ratio.values * scale, period=ratio.period), scale
+    return Scaled(ratio, scale), scale
 
 
 def _named(spec: str, mesh: Mesh, driven_lobes: int | None) -> GearPair:
