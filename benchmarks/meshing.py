@@ -16,7 +16,6 @@ largest difference in contact arc and backlash, and the time of a full cycle at 
 Run: python benchmarks/meshing.py
 """
 
-import runpy
 import statistics
 import sys
 import time
@@ -28,6 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests"))
 
 from reference_meshing import mesh_check_reference  # noqa: E402
+from transplanter.families import load_family  # noqa: E402
 from transplanter.teeth import generate_pair  # noqa: E402
 from transplanter.validate import mesh_check  # noqa: E402
 
@@ -35,7 +35,7 @@ STEPS = 24
 
 
 def main():
-    fam = runpy.run_path(str(ROOT / "parts" / "potseedling_seed002.py"))["family"]()
+    fam = load_family(ROOT / "parts" / "potseedling_seed002.py")
     study = next(p for p in fam.parts if p.name == "gears_2_3")
     pair, sizing = study._sized()
     g1, g2 = generate_pair(pair, study.tool, sizing.teeth, backlash=study.design_backlash)

@@ -1,6 +1,6 @@
 """Evaluations per second of a design search: serial against ``--workers 2`` (dask LocalCluster).
 
-Runs a part script's ``problem()`` (default: seed 004's differential train, 0.1-0.5 s per
+Runs a script's ``problem()`` (default: seed 004's differential train, ``parts/_seed004.py``, 0.1-0.5 s per
 candidate; seed 002's takes ~70 ms) for a few
 generations of differential evolution, once evaluating serially and once on two local worker
 processes, with the same seed, and prints evaluations per second and the ratio. Both runs use
@@ -8,23 +8,23 @@ deferred updating (one population update per generation), so they evaluate exact
 candidates and reach the same best cost — equal accuracy by construction; the parallel run's
 time includes starting its cluster.
 
-    python benchmarks/optimise.py [parts/script.py] [--generations 4] [--popsize 4]
+    python benchmarks/optimise.py [parts/_seed002.py] [--generations 4] [--popsize 4]
 """
 
 import argparse
-import runpy
 import time
 
+from transplanter.families import run_script
 from transplanter.optimise import optimise
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("script", nargs="?", default="parts/planetary_seed004.py")
+    ap.add_argument("script", nargs="?", default="parts/_seed004.py")
     ap.add_argument("--generations", type=int, default=4)
     ap.add_argument("--popsize", type=int, default=4)
     args = ap.parse_args()
-    problem = runpy.run_path(args.script, run_name="transplanter_part_script")["problem"]()
+    problem = run_script(args.script)["problem"]()
     rows = []
     for label, kwargs in (("serial (1 process)", {"workers": 1, "scheduler": None}), ("--workers 2", {"workers": 2})):
         start = time.perf_counter()

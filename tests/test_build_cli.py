@@ -3,6 +3,7 @@
 import hashlib
 import json
 import os
+import sys
 from pathlib import Path
 
 import pytest
@@ -404,3 +405,45 @@ def test_a_new_kind_of_study_needs_only_its_module_and_script(tmp_path, capsys):
     script.write_text(NEW_KIND.replace('(PlateStudy("square", 4.0),)', '("square",)'))
     assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 2
     assert "parts must be studies (transplanter.families.Study" in capsys.readouterr().err
+
+
+def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys):
+    """Design models and problems live beside the part script in ``_*.py``: the script imports
+    them (its folder is importable), the builder does not take them for part scripts, an edit
+    is read afresh, and ``check`` notes that the design changed since the build."""
+    parts = tmp_path / "parts"
+    parts.mkdir()
+    design = parts / "_plate.py"
+    model = NEW_KIND.split("\n\ndef family():")[0]
+    design.write_text(
+        model
+        + "\n\nSIDE = 4.0  # mm\n\n\ndef problem():\n"
+        + "    from transplanter.optimise import Problem\n\n"
+        + "    return Problem('side', (('side', 1.0, 9.0),), lambda v: (v[0] - SIDE) ** 2)\n"
+    )
+    (parts / "plates.py").write_text(
+        "from _plate import SIDE, PlateStudy\n\nfrom transplanter.families import Family\n\n\n"
+        "def family():\n    return Family('plates', 'from a design module', (PlateStudy('square', SIDE),))\n"
+    )
+    assert [p.name for p in discover(parts)] == ["plates.py"]
+    fam = load_family(parts / "plates.py")
+    assert fam.parts[0].side == 4.0 and fam.modules == (str(parts / "_plate.py"),)
+    assert "_plate" not in sys.modules  # forgotten, so the next load reads it afresh
+    out = tmp_path / "out"
+    assert cli.main(["build", "--parts", str(parts), "-o", str(out), "--jobs", "2"]) == 0
+    capsys.readouterr()
+    manifest = json.loads((out / "plates" / "manifest.json").read_text())
+    assert list(manifest["script"]["modules"]) == ["_plate.py"]
+    assert cli.main(["optimise", str(design), "--seed", "1", "--maxiter", "5", "--popsize", "4"]) == 0
+    assert json.loads(capsys.readouterr().out)["parameters"]["side"] == pytest.approx(4.0, abs=0.5)
+    assert cli.main(["check", str(out / "plates")]) == 0
+    assert "changed since the build" not in capsys.readouterr().out
+    design.write_text(design.read_text().replace("SIDE = 4.0", "SIDE = 5.0"))
+    assert load_family(parts / "plates.py").parts[0].side == 5.0
+    assert cli.main(["check", str(out / "plates")]) == 1
+    report = capsys.readouterr().out
+    assert "a module beside it that it imports) changed since the build" in report
+    assert "area 16.0 is not 25.0" in report
+    (parts / "plates.py").write_text("from _missing import SIDE\n")
+    with pytest.raises(PartScriptError, match=r"plates.py:1: ModuleNotFoundError: No module named '_missing'"):
+        load_family(parts / "plates.py")

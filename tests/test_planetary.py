@@ -2,7 +2,6 @@
 
 import json
 import math
-import runpy
 
 import numpy as np
 import pytest
@@ -13,13 +12,15 @@ from scipy import integrate
 
 from transplanter.agronomy import segment_distance, transplanting_metrics
 from transplanter.errors import GeometryError, SpecError
+from transplanter.families import run_script
 from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 
 
 @pytest.fixture(scope="module")
 def seed004(parts_dir):
-    return runpy.run_path(str(parts_dir / "planetary_seed004.py"))
+    """The design model beside the seed-004 part script: the paper's data and our reading."""
+    return run_script(parts_dir / "_seed004.py")
 
 
 @pytest.fixture(scope="module")

@@ -1,12 +1,12 @@
 """Seed 002: Burmester four-pose synthesis, the open-chain 3R model, ratio distribution."""
 
 import math
-import runpy
 
 import numpy as np
 import pytest
 
 from transplanter.errors import GeometryError, SpecError
+from transplanter.families import run_script
 from transplanter.linkage.burmester import FourPoses, Pose
 from transplanter.linkage.open_chain import OpenChain3R, seed002_poses
 
@@ -116,10 +116,10 @@ def test_ratio_distribution_closes_and_reproduces_the_arm(chain3):
 
 
 def test_the_part_script_splits_the_ratio_at_the_searched_exponent(parts_dir):
-    """The part script states λ = EXPONENT (the search takes 2 s, at every load of the family):
+    """The design model states λ = EXPONENT (the search takes 2 s, at every load of the family):
     the search over λ must still land on it, to the digits given (the index has a kink there,
     where the two stages are equally convex)."""
-    ns = runpy.run_path(str(parts_dir / "potseedling_seed002.py"))
+    ns = run_script(parts_dir / "_seed002.py")
     ch = ns["chain"](*ns["OPTIMUM"][:2])
     best = ch.distribute(ns["CENTRE_DISTANCES"], exponent=None)
     assert best.exponent == pytest.approx(ns["EXPONENT"], abs=2e-5)
@@ -155,9 +155,7 @@ def test_seed002_family_builds(built):
 
 
 def test_seed002_problem_scores_the_stored_optimum(parts_dir):
-    import runpy
-
-    ns = runpy.run_path(str(parts_dir / "potseedling_seed002.py"))
+    ns = run_script(parts_dir / "_seed002.py")
     problem = ns["problem"]()
     best = np.array([*ns["OPTIMUM"][0], *ns["OPTIMUM"][1], *ns["OPTIMUM"][2]])
     start = np.array(ns["START"])

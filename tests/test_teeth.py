@@ -7,7 +7,6 @@ points per profile piece is itself within ~0.02 µm, so 1 µm leaves margin on e
 """
 
 import math
-import runpy
 
 import numpy as np
 import pytest
@@ -16,6 +15,7 @@ import shapely
 from reference_teeth import boolean_reference, flank_deviation
 from transplanter.cutter import ShaperCutter, involute
 from transplanter.errors import GeometryError, SpecError
+from transplanter.families import run_script
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.teeth import CHORD_TOLERANCE, ArcFrame, generate
 
@@ -167,7 +167,7 @@ def test_internal_non_circular_pair_against_boolean_reference():
 
 @pytest.fixture(scope="module")
 def seed004_pair(parts_dir):
-    return runpy.run_path(str(parts_dir / "planetary_seed004.py"))["gear_pair"]()
+    return run_script(parts_dir / "_seed004.py")["gear_pair"]()
 
 
 def test_seed004_pair_at_the_published_module_cannot_be_cut(seed004_pair):

@@ -11,7 +11,6 @@ of a rebuilt train 2 µm (150 mm arm × TE/r2 ≈ 150 × 1e-4 / 15); follower on
 
 import dataclasses
 import math
-import runpy
 
 import numpy as np
 import pytest
@@ -21,7 +20,7 @@ from transplanter.backlash import backlash_band
 from transplanter.cams import FlatFacedFollower, MotionProgram, OscillatingRollerFollower, disc_cam
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError
-from transplanter.families import FOLLOWER_TOL, ToothedPairStudy
+from transplanter.families import FOLLOWER_TOL, ToothedPairStudy, run_script
 from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 from transplanter.teeth import generate, generate_pair
@@ -97,8 +96,8 @@ def test_steps_are_coprime_with_the_tooth_count(ellipse_pair):
 
 def test_seed004_teeth_foul_away_from_the_pitch_point(parts_dir):
     """The finding behind seed 004's withheld shop files: exact at the pitch point, fouling 5-15 mm away."""
-    ns = runpy.run_path(str(parts_dir / "planetary_seed004.py"))
-    pair, sizing = ns["gear_pair"]().sized(teeth=ns["FINE_RING_TEETH"])
+    ns = run_script(parts_dir / "planetary_seed004.py")  # the script's constants, not its family
+    pair, sizing = ns["train"]().pair.sized(teeth=ns["FINE_RING_TEETH"])
     ring, planet = generate_pair(
         pair, ShaperCutter(8, sizing.module, tip_fillet=0.1), sizing.teeth, backlash=0.0, check_interference=False
     )

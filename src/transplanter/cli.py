@@ -97,17 +97,18 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
 
 def _cmd_optimise(args: argparse.Namespace) -> int:
     import json
-    import runpy
 
     from transplanter.errors import PartScriptError
+    from transplanter.families.build import run_script
     from transplanter.optimise import Problem, optimise
 
     path = Path(args.script)
-    if not path.is_file():
-        raise PartScriptError(f"part script {path} does not exist")
-    fn = runpy.run_path(str(path), run_name="transplanter_part_script").get("problem")
+    fn = run_script(path).get("problem")
     if not callable(fn):
-        raise PartScriptError(f"{path}: an optimisable part script must define problem() returning an optimise.Problem")
+        raise PartScriptError(
+            f"{path}: an optimisable script (a part script or a design module beside one) must define "
+            "problem() returning an optimise.Problem"
+        )
     problem = fn()
     if not isinstance(problem, Problem):
         raise PartScriptError(f"{path}: problem() returned {type(problem).__name__}, expected optimise.Problem")
@@ -168,7 +169,10 @@ def _cmd_check(args: argparse.Namespace) -> int:
         design = f", design from {rep['script']}" if rep["script"] else ""
         print(f"{rep['family']}  ({folder}{design})")
         if rep["script_changed"]:
-            print("  note: the part script changed since the build; checking against its current design")
+            print(
+                "  note: the part script (or a module beside it that it imports) changed since the build; "
+                "checking against its current design"
+            )
         for fname, problem in sorted(rep["files"].items()):
             print(f"  file {fname}: {problem}")
         for name, part in rep["parts"].items():

@@ -64,6 +64,7 @@ from transplanter.families.build import (
     discover,
     load_family,
     part_outcome,
+    run_script,
 )
 from transplanter.families.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
 from transplanter.families.gear_pair import gear_pair, pair_family
@@ -96,6 +97,7 @@ __all__ = [
     "Making",
     "Family",
     "load_family",
+    "run_script",
     "discover",
     "build_family",
     "build_families",

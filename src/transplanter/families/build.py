@@ -7,8 +7,10 @@ import hashlib
 import json
 import re
 import runpy
+import sys
 import traceback
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,6 +22,7 @@ from transplanter.report import family_report
 __all__ = [
     "Family",
     "load_family",
+    "run_script",
     "discover",
     "part_outcome",
     "build_family",
@@ -47,6 +50,9 @@ class Family:
     parts: tuple[Study, ...] = field(default_factory=tuple)
     #: the part script it came from (set by :func:`load_family`)
     script: str | None = None
+    #: the modules beside the script that it imported (``_*.py`` in its folder; set by
+    #: :func:`load_family`), recorded with the script in the manifest
+    modules: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         _check_name("family", self.name)
@@ -65,8 +71,59 @@ class Family:
             seen.add(p.name)
 
 
+@contextmanager
+def _beside(folder: Path, imported: list[str]) -> Iterator[None]:
+    """Run with ``folder`` first on ``sys.path``, as ``python script.py`` would: a part script
+    imports the modules beside it (``_seed004.py`` → ``from _seed004 import ...``). The modules
+    it imported from there are listed in ``imported`` and then forgotten, so the next load
+    reads them afresh (an edited design module is not served from a cache)."""
+    where = str(folder.resolve())
+    before = set(sys.modules)
+    sys.path.insert(0, where)
+    try:
+        yield
+    finally:
+        sys.path.remove(where)
+        for name in sorted(set(sys.modules) - before):
+            origin = getattr(sys.modules[name], "__file__", None)
+            if origin and Path(origin).resolve().parent == Path(where):
+                imported.append(str(folder / Path(origin).name))
+                del sys.modules[name]
+
+
+def run_script(path: str | Path, imported: list[str] | None = None) -> dict:
+    """The namespace of a part script (or of a design module beside one), run with its folder
+    importable (:func:`_beside`); ``imported`` collects the modules beside it that it imported.
+
+    Raises
+    ------
+    PartScriptError
+        If the file is missing or a folder, does not parse, or raises; the message names the
+        script and the line.
+    """
+    p = Path(path)
+    if p.is_dir():
+        raise PartScriptError(f"{p} is a folder, not a part script (give a .py file, or --parts {p})")
+    if not p.is_file():
+        raise PartScriptError(f"part script {p} does not exist")
+    try:
+        with _beside(p.parent, imported if imported is not None else []):
+            return runpy.run_path(str(p), run_name="transplanter_part_script")
+    except SyntaxError as exc:
+        raise PartScriptError(f"{exc.filename or p}:{exc.lineno}: syntax error: {exc.msg}") from exc
+    except TransplanterError as exc:
+        raise PartScriptError(f"{p}: {exc}") from exc
+    except SystemExit as exc:
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: the script called sys.exit({exc.code!r})") from exc
+    except Exception as exc:  # a user script can raise anything; report where
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: {type(exc).__name__}: {exc}") from exc
+
+
 def load_family(path: str | Path) -> Family:
     """Run a part script and return the :class:`Family` its ``family()`` builds.
+
+    The script runs with its folder importable, so its design models and optimisation problems
+    can live beside it in modules named ``_*.py`` (which :func:`discover` skips).
 
     Raises
     ------
@@ -75,20 +132,8 @@ def load_family(path: str | Path) -> Family:
         something that is not a Family. The message names the script (and line).
     """
     p = Path(path)
-    if p.is_dir():
-        raise PartScriptError(f"{p} is a folder, not a part script (give a .py file, or --parts {p})")
-    if not p.is_file():
-        raise PartScriptError(f"part script {p} does not exist")
-    try:
-        ns = runpy.run_path(str(p), run_name="transplanter_part_script")
-    except SyntaxError as exc:
-        raise PartScriptError(f"{p}:{exc.lineno}: syntax error: {exc.msg}") from exc
-    except TransplanterError as exc:
-        raise PartScriptError(f"{p}: {exc}") from exc
-    except SystemExit as exc:
-        raise PartScriptError(f"{p}:{_script_line(exc, p)}: the script called sys.exit({exc.code!r})") from exc
-    except Exception as exc:  # a user script can raise anything; report where
-        raise PartScriptError(f"{p}:{_script_line(exc, p)}: {type(exc).__name__}: {exc}") from exc
+    imported: list[str] = []
+    ns = run_script(p, imported)
     fn = ns.get("family")
     if not callable(fn):
         raise PartScriptError(f"{p}: a part script must define family() returning transplanter.families.Family")
@@ -102,7 +147,7 @@ def load_family(path: str | Path) -> Family:
         raise PartScriptError(f"{p}:{_script_line(exc, p)}: family() raised {type(exc).__name__}: {exc}") from exc
     if not isinstance(fam, Family):
         raise PartScriptError(f"{p}: family() returned {type(fam).__name__}, expected transplanter.families.Family")
-    return dataclasses.replace(fam, script=str(p))
+    return dataclasses.replace(fam, script=str(p), modules=tuple(imported))
 
 
 def _script_line(exc: BaseException, path: Path) -> str:
@@ -111,7 +156,8 @@ def _script_line(exc: BaseException, path: Path) -> str:
 
 
 def discover(parts_dir: str | Path) -> list[Path]:
-    """Part scripts in ``parts_dir`` (``*.py`` not starting with ``_``), sorted by name."""
+    """Part scripts in ``parts_dir`` (``*.py`` not starting with ``_``: those are the modules the
+    scripts import), sorted by name."""
     d = Path(parts_dir)
     if not d.is_dir():
         raise PartScriptError(f"parts folder {d} does not exist (run from the project root or pass scripts)")
@@ -120,6 +166,15 @@ def discover(parts_dir: str | Path) -> list[Path]:
 
 def _sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
+
+
+def _script_record(script: str, modules: tuple[str, ...]) -> dict:
+    """The design a family was built from: its script and the modules beside it that it imported
+    (by file name), with SHA-256."""
+    out: dict = {"path": script, "sha256": _sha256(Path(script).read_bytes())}
+    if modules:
+        out["modules"] = {Path(m).name: _sha256(Path(m).read_bytes()) for m in sorted(modules)}
+    return out
 
 
 def _previous_manifest(root: Path) -> dict:
@@ -165,7 +220,7 @@ def build_family(
     root = Path(out_dir) / family.name
     manifest: dict = {"family": family.name, "description": family.description, "parts": {}, "ok": True}
     if family.script is not None:
-        manifest["script"] = {"path": family.script, "sha256": _sha256(Path(family.script).read_bytes())}
+        manifest["script"] = _script_record(family.script, family.modules)
     with Transaction(root) as tx:
         old = _previous_manifest(root)
         for part in family.parts:
@@ -327,12 +382,14 @@ def check_family(folder: str | Path, script: str | Path | None = None) -> dict:
             f"{root}: the part script {str(path) or '(not recorded)'} is not found; pass it with --script"
         )
     fam = load_family(path)
+    now = _script_record(str(path), fam.modules)
     if fam.name != manifest.get("family"):
         raise PartScriptError(f"{path} defines family {fam.name!r}, but {root} holds {manifest.get('family')!r}")
     out.update(
         family=fam.name,
         script=str(path),
-        script_changed=recorded.get("sha256") not in (None, _sha256(path.read_bytes())),
+        script_changed="sha256" in recorded
+        and (recorded["sha256"], recorded.get("modules", {})) != (now["sha256"], now.get("modules", {})),
         ok=True,
     )
     for name in leftovers(root):
