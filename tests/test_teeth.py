@@ -309,3 +309,53 @@ def test_a_cutter_without_a_module_takes_its_studys():
         assert study.tool == unsized.sized(module) and study.tool.module == module
     with pytest.raises(SpecError, match="cutter module = 3.0 is out of range"):
         assert ToothedPairStudy("p", pair, ShaperCutter(12, 3.0), teeth=30).design_backlash > 0
+
+
+def _lobed_pair():
+    """A 2-lobed planet (60 teeth) in its 3-lobed ring (90), m = 2 (the teeth benchmark's)."""
+    pair = GearPair.from_driver(PitchCurve.ellipse(60.0, 0.12, lobes=2), "internal", driven_lobes=3)
+    return pair.sized(module=2.0)[0]
+
+
+ASSEMBLY_CASES = [
+    ("circular external", lambda: PitchCurve.circle(60.0), 60, False, 0.0, 0.0),
+    ("circular ring, shifted", lambda: PitchCurve.circle(60.0), 60, True, 0.3, 0.5),
+    ("2-lobed planet", lambda: _lobed_pair().driver, 60, False, 0.0, 0.0),
+    ("3-lobed ring", lambda: _lobed_pair().driven, 90, True, 0.0, 0.5),
+]
+
+
+@pytest.mark.parametrize(("label", "curve", "z", "internal", "x", "phase"), ASSEMBLY_CASES)
+def test_the_fast_assembly_and_the_symmetry_give_the_boolean_outline(monkeypatch, label, curve, z, internal, x, phase):
+    """The outline assembled without a union (spaces that neither fold nor touch) from one
+    symmetric sector turned onto the others is the outline of the general path — every space
+    computed and the spaces unioned: the same region to round-off, the same tip lands and
+    undercut (the general path's lands follow the tip polyline, within its chord error)."""
+    from transplanter import teeth
+
+    curve = curve()
+    cutter = ShaperCutter(16, 2.0)
+    fast = generate(curve, cutter, z, internal=internal, shift=x, phase=phase)
+    assert teeth._symmetry(curve, z) == (z if curve.lobes == 1 else curve.lobes)
+    assert isinstance(fast.removed[-1], shapely.MultiPolygon)  # the union was not needed
+    monkeypatch.setattr(teeth, "_apart_spaces", lambda *a: None)
+    monkeypatch.setattr(teeth, "_symmetry", lambda curve, teeth: 1)
+    general = generate(curve, cutter, z, internal=internal, shift=x, phase=phase)
+    assert not isinstance(general.removed[-1], shapely.MultiPolygon) or len(general.removed[-1].geoms) == 1
+    assert shapely.hausdorff_distance(fast.polygon, general.polygon) < 1e-9
+    assert abs(fast.polygon.area - general.polygon.area) < 1e-9 * general.polygon.area
+    assert np.abs(fast.tip_lands - general.tip_lands).max() < CHORD_TOLERANCE
+    assert fast.undercut == general.undercut == 0.0
+    for a, b in zip(fast.spaces, general.spaces, strict=True):
+        assert np.abs(a.upper - b.upper).max() < 1e-9 and a.s == pytest.approx(b.s, abs=1e-12)
+
+
+def test_nearly_pointed_teeth_take_the_general_path():
+    """Spaces whose caps meet above a nearly pointed tooth are not apart: the union path cuts
+    the gear, and reports the pointed tooth."""
+    cutter = ShaperCutter(20, 2.0, dedendum=2.2)
+    gear = generate(PitchCurve.circle(12.0), cutter, 12, shift=0.9, allow_undercut=True, min_land=0.0)
+    assert isinstance(gear.removed[-1], shapely.Polygon)  # unioned
+    assert gear.tip_lands.min() == pytest.approx(0.152, abs=1e-3)
+    with pytest.raises(GeometryError, match=r"pointed tooth 0: its tip land is 0.1521 mm, below min_land"):
+        generate(PitchCurve.circle(12.0), cutter, 12, shift=0.9, allow_undercut=True)

@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -53,6 +54,7 @@ from transplanter.errors import GeometryError, SpecError, TransplanterError, che
 from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
 from transplanter.pitch.arcframe import ArcFrame
 from transplanter.pitch.curve import PitchCurve
+from transplanter.pitch.periodic import Constant
 from transplanter.tolerances import CHORD_TOLERANCE, SPIKE_LENGTH
 
 __all__ = [
@@ -64,6 +66,9 @@ __all__ = [
     "per_gear",
     "secondary_cut",
 ]
+
+#: the cap closing a tooth space on the free side, modules beyond its last samples outside the blank
+CAP = 0.25
 
 #: Ring tips are not trimmed below this addendum (modules): shorter teeth lose their contact
 #: ratio, so the pair needs another remedy (cutter, tooth-count difference)
@@ -116,7 +121,8 @@ class ToothedGear:
     blank, cut : shapely geometry
         What the teeth were cut from (inside the tip curve; a ring's rim disc) and what was cut
         away (the tooth spaces; a ring's tip region too): ``polygon = blank - cut``, up to
-        specks. Solids repeat the subtraction in 3D.
+        specks. Solids repeat the subtraction in 3D; ``cut`` is put together from
+        ``removed`` (the spaces, and a ring's tip region) when first asked for.
     """
 
     polygon: shapely.Polygon
@@ -128,9 +134,15 @@ class ToothedGear:
     spaces: tuple[ToothSpace, ...]
     tip_lands: np.ndarray = field(repr=False)
     blank: shapely.Geometry = field(repr=False, default=None)
-    cut: shapely.Geometry = field(repr=False, default=None)
+    #: what was cut from the blank, in pieces that may overlap (their union is ``cut``)
+    removed: tuple[shapely.Geometry, ...] = field(repr=False, default=())
     #: addendum coefficient the tips were cut to (modules)
     addendum: float = 1.0
+
+    @cached_property
+    def cut(self) -> shapely.Geometry:
+        """Everything cut from the blank (the union of ``removed``)."""
+        return self.removed[0] if len(self.removed) == 1 else shapely.union_all(self.removed)
 
     @property
     def toothed_contour(self) -> np.ndarray:
@@ -187,6 +199,24 @@ def _chord_error(a, m, b):
     return np.linalg.norm(m - (a + t[..., None] * ab), axis=-1)
 
 
+def _symmetry(curve: PitchCurve, teeth: int) -> int:
+    """How many times a gear of ``teeth`` on ``curve`` turns onto itself in a revolution: its
+    tooth spaces repeat every ``1/turns`` of a turn. A circle's gear: every tooth; an n-lobed
+    curve's: gcd(n, teeth) (a lobe's worth of teeth when the count is a multiple of the lobes)."""
+    return teeth if isinstance(curve.radius, Constant) else math.gcd(curve.lobes, teeth)
+
+
+def _turned(y: np.ndarray, turns: int) -> np.ndarray:
+    """Envelopes ``y`` (spaces of one sector, samples, 2) turned onto all ``turns`` sectors, in
+    order of arc length (a turn by 2π/turns advances the arc length by a sector)."""
+    if turns == 1:
+        return y
+    a = 2 * math.pi * np.arange(turns) / turns
+    cs, sn = np.cos(a)[:, None, None], np.sin(a)[:, None, None]
+    x, v = y[None, ..., 0], y[None, ..., 1]
+    return np.stack([cs * x - sn * v, sn * x + cs * v], axis=-1).reshape(-1, *y.shape[1:])
+
+
 def _profile_grid(frame, cutter, s_centres, side, shift, tolerance):
     """Adaptive τ grid: every chord of every space within ``tolerance`` of the envelope."""
     counts = (3, 20, 6, 4, 6, 20, 3)
@@ -227,18 +257,34 @@ def _despike(points: np.ndarray, length: float) -> np.ndarray:
     self-crossing once the DXF fits arcs through it.
     """
     pts = np.asarray(points, dtype=float)
-    while len(pts) > 3:
-        u = pts[1:-1] - pts[:-2]
-        v = pts[2:] - pts[1:-1]
-        short = np.minimum(np.linalg.norm(u, axis=1), np.linalg.norm(v, axis=1)) < length
-        back = np.flatnonzero(short & (np.einsum("ij,ij->i", u, v) < 0)) + 1
+    return pts[_despiked(pts, length)]
+
+
+def _despiked(points: np.ndarray, length: float) -> np.ndarray:
+    """Indices of the vertices :func:`_despike` keeps."""
+    index = np.arange(len(points))
+    while len(index) > 3:
+        back = np.flatnonzero(_spikes(points[index], length)[1:-1]) + 1
         if back.size == 0:
             break
-        pts = np.delete(pts, back[::2], axis=0)  # every other one, then look again
-    return pts
+        index = np.delete(index, back[::2])  # every other one, then look again
+    return index
+
+
+def _spikes(points: np.ndarray, length: float) -> np.ndarray:
+    """Mask of the vertices of paths ``points`` (..., n, 2) where the path turns back (> 90°)
+    on a segment shorter than ``length`` (the ends are never spikes)."""
+    u = points[..., 1:-1, :] - points[..., :-2, :]
+    v = points[..., 2:, :] - points[..., 1:-1, :]
+    uu, vv, uv = (np.einsum("...i,...i", a, b) for a, b in ((u, u), (v, v), (u, v)))
+    inner = (np.minimum(uu, vv) < length * length) & (uv < 0)
+    pad = np.zeros(points.shape[:-2] + (1,), dtype=bool)
+    return np.concatenate([pad, inner, pad], axis=-1)
 
 
 def _space_polygons(y, s_centres, frame, side, module):
+    """Every tooth space as a polygon: its envelope closed 3 m out on the free side, made valid
+    where the envelope folds (undercut) — they overlap outside the blank, so they are unioned."""
     _, _, nrm, _ = frame.at(s_centres)
     ext = 3.0 * module
     polys = []
@@ -250,6 +296,97 @@ def _space_polygons(y, s_centres, frame, side, module):
             poly = shapely.make_valid(poly, method="structure", keep_collapsed=False)
         polys.append(poly)
     return polys
+
+
+@dataclass(frozen=True)
+class _Apart:
+    """Tooth spaces that neither fold nor touch, as :func:`_apart_spaces` found them."""
+
+    #: the spaces, one valid MultiPolygon
+    spaces: shapely.MultiPolygon
+    #: (spaces, samples) envelope samples that are vertices of the spaces' outlines
+    kept: np.ndarray
+    #: (spaces, 2) where each envelope enters and leaves the blank: arc length on the pitch curve
+    crossings: np.ndarray
+
+
+def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset) -> _Apart | None:
+    """The tooth spaces as one valid MultiPolygon without a union, or None.
+
+    Each envelope is kept from the last sample before it enters the blank to the first after it
+    leaves, and closed by a cap ``CAP`` m out on the free side. When every cap stays off the
+    blank, no space folds (no undercut loop) and no two touch (a tooth between each pair), the
+    spaces are already a valid MultiPolygon — the usual case, and a GEOS union of all spaces
+    saved. Otherwise None: :func:`_space_polygons` and a union do it, as they always can.
+    """
+    if not isinstance(tip, shapely.Polygon) or tip.interiors or not in_blank.any(axis=1).all():
+        return None
+    n = y.shape[1]
+    first = np.argmax(in_blank, axis=1) - 1
+    last = n - np.argmax(in_blank[:, ::-1], axis=1)
+    if first.min() < 0 or last.max() > n - 1:
+        return None  # an envelope that starts or ends in the blank: the long closure is needed
+    _, _, nrm, _ = frame.at(s_centres, curvature=False)
+    out = (side * CAP * module) * nrm
+    rows = np.arange(y.shape[0])
+    sample = np.arange(n)
+    kept = (sample >= first[:, None]) & (sample <= last[:, None])
+    spiky = _spikes(y, SPIKE_LENGTH) & kept
+    spiky[rows, first] = spiky[rows, last] = False
+    for j in np.flatnonzero(spiky.any(axis=1)):  # rare: drop the spikes of these spaces
+        index = np.arange(first[j], last[j] + 1)
+        kept[j] = False
+        kept[j, index[_despiked(y[j, index], SPIKE_LENGTH)]] = True
+    caps = np.stack([y[rows, last], y[rows, last] + out, y[rows, first] + out, y[rows, first]], axis=1)
+    lines = shapely.linestrings(caps)
+    if not (shapely.contains(tip, lines) if side < 0 else ~shapely.intersects(tip, lines)).all():
+        return None
+    # each ring: the kept samples in order, then the cap's two outer corners
+    coords = np.concatenate([y, caps[:, 1:3]], axis=1)[np.concatenate([kept, np.ones((len(y), 2), bool)], axis=1)]
+    owner = np.repeat(rows, kept.sum(axis=1) + 2)
+    spaces = shapely.MultiPolygon(list(shapely.polygons(shapely.linearrings(coords, indices=owner))))
+    if not spaces.is_valid:
+        return None
+    outside = np.stack([y[rows, first], y[rows, last]], axis=1)
+    inside = np.stack([y[rows, first + 1], y[rows, last - 1]], axis=1)
+    return _Apart(spaces, kept, _crossing(frame, outside, inside, s_centres[:, None], offset))
+
+
+def _foot(frame, pts, s0, tol: float = 1e-12):
+    """Arc length of the pitch-curve points nearest ``pts`` (..., 2), by Newton from ``s0`` (a
+    few steps from within a tooth's length), and the points' heights along the outward normal
+    there (mm)."""
+    s = np.asarray(s0, dtype=float)
+    for _ in range(20):
+        p, t, nrm, kap = frame.at(s)
+        r = pts - p
+        step = np.einsum("...i,...i", r, t) / (1.0 + kap * np.einsum("...i,...i", r, nrm))
+        s = s + step
+        if np.max(np.abs(step)) < tol * frame.length:
+            break
+    p, _, nrm, _ = frame.at(s, curvature=False)
+    return s, np.einsum("...i,...i", pts - p, nrm)
+
+
+def _crossing(frame, outside, inside, s0, offset, iterations: int = 2):
+    """Where the segments from ``outside`` to ``inside`` the blank (each (..., 2)) cross the tip
+    curve (the pitch curve offset by ``offset`` along N): its arc length on the pitch curve,
+    by regula falsi on the height above the tip curve (round-off in a few steps: the segments
+    are one envelope sample long, where the height is nearly linear)."""
+    a, b = outside, inside
+    sa, ha = _foot(frame, a, s0)
+    sb, hb = _foot(frame, b, sa)
+    ha, hb = ha - offset, hb - offset
+    s = sa
+    for _ in range(iterations):
+        w = ha / np.where(ha == hb, 1.0, ha - hb)
+        c = a + w[..., None] * (b - a)
+        s, hc = _foot(frame, c, sa + w * (sb - sa))
+        hc = hc - offset
+        same = np.sign(hc) == np.sign(ha)
+        a, sa, ha = np.where(same[..., None], c, a), np.where(same, s, sa), np.where(same, hc, ha)
+        b, sb, hb = np.where(same[..., None], b, c), np.where(same, sb, s), np.where(same, hb, hc)
+    return s
 
 
 def generate(
@@ -325,19 +462,34 @@ def generate(
     cutter.check_fits(frame, internal, shift)
     pitch = frame.length / teeth
     s_centres = pitch * (np.arange(teeth) + phase)
-    tau, y = _profile_grid(frame, cutter, s_centres, side, shift, tolerance)
-    spaces_poly = _space_polygons(y, s_centres, frame, side, m)
-    cut = shapely.union_all(spaces_poly)
+    # the envelope of one symmetric sector, turned onto the others (a circle: one space)
+    turns = _symmetry(curve, teeth)
+    tau, y = _profile_grid(frame, cutter, s_centres[: teeth // turns], side, shift, tolerance)
     tip = _tip_region(frame, side * (addendum + shift) * m, tolerance)
+    shapely.prepare(tip)
+    inside_tip = shapely.contains_xy(tip, y[..., 0], y[..., 1])
+    in_blank = np.tile(inside_tip if side > 0 else ~inside_tip, (turns, 1))
+    y = _turned(y, turns)
+    apart = _apart_spaces(y, in_blank, s_centres, frame, side, m, tip, side * (addendum + shift) * m)
+    if apart is not None:
+        cut, doubtful = apart.spaces, in_blank & ~apart.kept  # the kept samples are on the outline
+    else:
+        cut, doubtful = shapely.union_all(_space_polygons(y, s_centres, frame, side, m)), in_blank
     if internal:
         depth = float(np.max(np.linalg.norm(y, axis=-1)))
         r_rim = depth + (3.0 * m if rim is None else float(rim))
         n_rim = max(720, int(math.ceil(2 * math.pi / math.acos(1 - tolerance / r_rim))))
         ang = 2 * math.pi * np.arange(n_rim) / n_rim
-        disc = shapely.Polygon(np.stack([r_rim * np.cos(ang), r_rim * np.sin(ang)], axis=1))
-        body = shapely.difference(disc, shapely.union(tip, cut))
+        rim_ring = np.stack([r_rim * np.cos(ang), r_rim * np.sin(ang)], axis=1)
+        disc = shapely.Polygon(rim_ring)
+        if isinstance(tip, shapely.Polygon) and not tip.interiors:  # the rim around the tip region
+            body = shapely.difference(shapely.Polygon(rim_ring, [tip.exterior.coords]), cut)
+        else:
+            body = shapely.difference(disc, shapely.union(tip, cut))
+        removed = (tip, cut)
     else:
         body = shapely.difference(tip, cut)
+        removed = (cut,)
     body = _drop_specks(body, m)
     if not isinstance(body, shapely.Polygon) or body.is_empty:
         parts = len(getattr(body, "geoms", [])) if not body.is_empty else 0
@@ -345,9 +497,9 @@ def generate(
             f"the teeth cut the gear apart ({parts} pieces): the tooth spaces meet below the tip; "
             "check the module, the cutter and the profile shift"
         )
-    spaces = _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tolerance)
+    spaces = _tooth_spaces(body, doubtful, y, tau, s_centres, frame, allow_undercut, tolerance)
     if internal:
-        depth, where = secondary_cut(body, frame, cutter, teeth, shift, side, phase=phase)
+        depth, where = secondary_cut(body, frame, cutter, teeth, shift, side, phase=phase, turns=turns)
         if depth > 4 * tolerance:
             tooth = int(round(where / pitch - phase)) % teeth
             raise GeometryError(
@@ -355,7 +507,10 @@ def generate(
                 f"into the ring while leaving the mesh (limit {4 * tolerance * 1000:.1f} µm); use a cutter with "
                 "fewer teeth or a larger ring"
             )
-    lands = _tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
+    if apart is not None:
+        lands = _lands_between(frame, apart.crossings, side * (addendum + shift) * m)
+    else:
+        lands = _tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
     thin = np.flatnonzero(lands < min_land * m)
     if thin.size:
         t = int(thin[0])
@@ -363,14 +518,31 @@ def generate(
             f"pointed tooth {t}: its tip land is {lands[t]:.4g} mm, below min_land = {min_land:g} m = "
             f"{min_land * m:.4g} mm ({thin.size} teeth affected); reduce the addendum or the profile shift"
         )
-    blank, removed = (disc, shapely.union(tip, cut)) if internal else (tip, cut)
     return ToothedGear(
-        body, int(teeth), m, internal, float(shift), cutter, tuple(spaces), lands, blank, removed, float(addendum)
+        body,
+        int(teeth),
+        m,
+        internal,
+        float(shift),
+        cutter,
+        tuple(spaces),
+        lands,
+        disc if internal else tip,
+        removed,
+        float(addendum),
     )
 
 
 def secondary_cut(
-    body, frame: ArcFrame, cutter: ShaperCutter, teeth: int, shift: float, side: float, per_pitch: int = 3, phase=0.0
+    body,
+    frame: ArcFrame,
+    cutter: ShaperCutter,
+    teeth: int,
+    shift: float,
+    side: float,
+    per_pitch: int = 3,
+    phase=0.0,
+    turns: int = 1,
 ):
     """Deepest reach (mm) of any cutter position into the finished ``body``, and its roll (mm).
 
@@ -378,24 +550,37 @@ def secondary_cut(
 
     The finished gear must not overlap the cutter at any roll position; where it does, the
     cutter's other teeth would have cut it (secondary cutting on ring gears, or interference).
+    A gear that turns onto itself ``turns`` times a revolution (:func:`_symmetry`) is checked
+    over one such sector: the others repeat it.
     """
     pitch = frame.length / teeth
-    s = pitch * np.arange(teeth * per_pitch) / per_pitch
+    s = pitch * np.arange(teeth // turns * per_pitch) / per_pitch
     j = (np.round(s / pitch - phase) + phase) * pitch
     c, psi = cutter.placement(frame, s, j, side, shift)
-    placed = _on_gear(c[:, None, :], psi[:, None], cutter.outline(per_piece=6))
-    xs, ys = placed[..., 0], placed[..., 1]
+    outline = cutter.outline(per_piece=6)
     shapely.prepare(body)
     if side < 0:  # ring: cutter points nearer the axis than the ring's innermost point are in free space
-        near = np.hypot(xs, ys) >= shapely.distance(shapely.Point(0.0, 0.0), body.interiors[0]) * (1 - 1e-9)
+        reach = shapely.distance(shapely.Point(0.0, 0.0), body.interiors[0]) * (1 - 1e-9)
+        # whole cutter teeth first: one whose bounding circle stays inside that radius is skipped
+        teeth_q = outline.reshape(cutter.teeth, -1, 2)
+        centre = teeth_q.mean(axis=1)
+        radius = np.linalg.norm(teeth_q - centre[:, None], axis=-1).max(axis=1)
+        far = np.linalg.norm(_on_gear(c[:, None, :], psi[:, None], centre), axis=-1) + radius[None] >= reach
+        k, t = np.nonzero(far)
+        placed = _on_gear(c[k, None, :], psi[k, None], teeth_q[t])  # (candidates, points, 2)
+        xs, ys = placed[..., 0], placed[..., 1]
+        near = np.hypot(xs, ys) >= reach
         inside = np.zeros(xs.shape, dtype=bool)
         inside[near] = shapely.contains_xy(body, xs[near], ys[near])
     else:
+        placed = _on_gear(c[:, None, :], psi[:, None], outline)
+        xs, ys = placed[..., 0], placed[..., 1]
+        k = np.arange(len(s))
         inside = shapely.contains_xy(body, xs, ys)
     if not inside.any():
         return 0.0, 0.0
-    k, i = np.nonzero(inside)
-    pts = shapely.points(xs[k, i], ys[k, i])
+    row, i = np.nonzero(inside)
+    pts = shapely.points(xs[row, i], ys[row, i])
     boundary = body.boundary
     shapely.prepare(boundary)
     deep = ~shapely.dwithin(boundary, pts, CHORD_TOLERANCE)  # the generating contact sits on the boundary
@@ -403,7 +588,7 @@ def secondary_cut(
         return 0.0, 0.0
     d = shapely.distance(boundary, pts[deep])
     w = int(np.argmax(d))
-    return float(d[w]), float(s[k[deep][w]])
+    return float(d[w]), float(s[k[row[deep][w]]])
 
 
 def _drop_specks(body, module: float):
@@ -581,20 +766,21 @@ def _near_boundary(boundary, pts: np.ndarray, distance: float) -> np.ndarray:
     return near
 
 
-def _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tolerance):
-    """Per-space metadata; undercut = involute envelope points inside the blank but cut away."""
+def _tooth_spaces(body, doubtful, y, tau, s_centres, frame, allow_undercut, tolerance):
+    """Per-space metadata; undercut = involute envelope points inside the blank but cut away.
+
+    ``doubtful`` (spaces, samples) marks the envelope samples inside the blank that may have been
+    cut away: all of them after a union, none but the dropped spikes when the spaces are apart
+    (their kept samples are vertices of the outline)."""
     flank = ((tau >= 1) & (tau <= 2)) | ((tau >= 5) & (tau <= 6))
     lower, upper = (tau >= 1) & (tau <= 2), (tau >= 5) & (tau <= 6)
-    boundary = body.boundary
-    shapely.prepare(boundary)
-    shapely.prepare(tip)
     pts = y[:, flank].reshape(-1, 2)
-    inside_tip = shapely.contains_xy(tip, pts[:, 0], pts[:, 1])
-    in_blank = inside_tip if side > 0 else ~inside_tip
-    gone = in_blank.copy()
-    gone[in_blank] = ~_near_boundary(boundary, pts[in_blank], 4 * tolerance)
+    gone = doubtful[:, flank].reshape(-1)
     depth = np.zeros(len(pts))
     if gone.any():
+        boundary = body.boundary
+        shapely.prepare(boundary)
+        gone[gone] = ~_near_boundary(boundary, pts[gone], 4 * tolerance)
         depth[gone] = shapely.distance(boundary, shapely.points(pts[gone]))
     depth = depth.reshape(y.shape[0], -1).max(axis=1)
     p, _, nrm, _ = frame.at(s_centres, curvature=False)
@@ -610,6 +796,25 @@ def _tooth_spaces(body, tip, y, tau, s_centres, frame, side, allow_undercut, tol
             "instead of a rack) or allow_undercut=True"
         )
     return out
+
+
+def _lands_between(frame, crossings, offset) -> np.ndarray:
+    """Tip land of each tooth (tooth t between spaces t and t+1), mm, from where each space's
+    envelope crosses the tip curve (``crossings``, (spaces, 2) arc lengths on the pitch curve):
+    the shortest way along the tip curve from a crossing of space t to one of space t+1 (any
+    other way crosses a space), its length ``∫ |1 + offset κ| ds`` by Simpson's rule (a land is
+    shorter than a tooth, where κ hardly changes)."""
+    length = frame.length
+    ahead = np.roll(crossings, -1, axis=0)
+    d = np.mod(ahead[:, None, :] - crossings[:, :, None], length).reshape(len(crossings), -1)
+    back = length - d
+    k = np.argmin(np.minimum(d, back), axis=1)
+    rows = np.arange(len(crossings))
+    start = crossings[rows, k // 2]
+    step = np.where(d[rows, k] <= back[rows, k], d[rows, k], -back[rows, k])
+    _, _, _, kap = frame.at(start[:, None] + step[:, None] * np.array([0.0, 0.5, 1.0]))
+    f = np.abs(1.0 + offset * kap)
+    return np.abs(step) * (f[:, 0] + 4 * f[:, 1] + f[:, 2]) / 6
 
 
 def _tip_lands(tip, cut, frame, s_centres, side, offset, phase):
