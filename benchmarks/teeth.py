@@ -12,6 +12,13 @@ The pair: a 2-lobed planet (n-lobed ellipse, e = 0.12, m = 2 mm, 60 teeth) drivi
 ANCHORS (circular stand-ins, 2 cores): Boolean envelope, external z = 30, 1000 positions,
 0.53 s at 0.79 µm; ring z = 60, 1000 positions, 0.55 s at 1.26 µm.
 
+Then the issue-15 goal, circular gears at z = 60 and z = 600 (m = 2, z0 = 20 cutter, outline
+within 0.25 µm), external and ring: ours against the general path measured in the same run —
+every tooth space computed and the spaces unioned by GEOS, which is what ``generate`` falls
+back to when spaces fold or touch (same outline to 1e-9 mm, tests/test_teeth.py) — and the
+ANCHORS' compiled exact tool (GearCutter, C++: 4.6 ms at 0.43 µm for z = 60; not installable
+here, quoted). Goal: <= 10 ms at z = 60 (within 2x of it), linear to z = 600.
+
 Run: python benchmarks/teeth.py
 """
 
@@ -19,7 +26,9 @@ import statistics
 import sys
 import time
 from pathlib import Path
+from unittest import mock
 
+from transplanter import teeth
 from transplanter.cutter import ShaperCutter
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.teeth import generate
@@ -74,6 +83,32 @@ def main() -> None:
         total_ours += t_ours
         total_ref += t_ref
     print(f"pair: ours {total_ours:.3f} s, Boolean reference {total_ref:.2f} s, ratio {total_ref / total_ours:.0f}x")
+    circular()
+
+
+COMPILED_Z60_MS = 4.6  # ANCHORS.md: GearCutter (C++), external z = 60
+
+
+def circular() -> None:
+    """Circular gears, z = 60 and 600: ours against the general path (no symmetry, GEOS union)."""
+    cutter = ShaperCutter(20, MODULE)
+    print("circular gears, m = 2, z0 = 20, outline within 0.25 µm (median of 7):")
+    for z in (60, 600):
+        for internal in (False, True):
+            curve = PitchCurve.circle(z * MODULE / 2)
+            label = f"{'ring' if internal else 'external'} z = {z}"
+            t_ours, gear = timed(lambda c=curve, z=z, i=internal: generate(c, cutter, z, internal=i), repeat=7)
+            with (
+                mock.patch.object(teeth, "_apart_spaces", lambda *a: None),
+                mock.patch.object(teeth, "_symmetry", lambda curve, teeth: 1),
+            ):
+                t_gen, general = timed(lambda c=curve, z=z, i=internal: generate(c, cutter, z, internal=i), repeat=3)
+            same = teeth.shapely.hausdorff_distance(gear.polygon, general.polygon)
+            extra = f", {t_ours * 1000 / COMPILED_Z60_MS:.1f}x the compiled anchor" if z == 60 else ""
+            print(
+                f"  {label:17s}: ours {t_ours * 1000:6.1f} ms, general path {t_gen * 1000:6.1f} ms "
+                f"(ratio {t_gen / t_ours:4.1f}x, outlines {same * 1e6:.2g} nm apart){extra}"
+            )
 
 
 if __name__ == "__main__":

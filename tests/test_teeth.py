@@ -329,8 +329,9 @@ ASSEMBLY_CASES = [
 def test_the_fast_assembly_and_the_symmetry_give_the_boolean_outline(monkeypatch, label, curve, z, internal, x, phase):
     """The outline assembled without a union (spaces that neither fold nor touch) from one
     symmetric sector turned onto the others is the outline of the general path — every space
-    computed and the spaces unioned: the same region to round-off, the same tip lands and
-    undercut (the general path's lands follow the tip polyline, within its chord error)."""
+    computed and the spaces unioned: the same region but for where the tip polyline's vertices
+    fall (within a tenth of the chord tolerance), the same tip lands and undercut (the general
+    path's lands follow the tip polyline, within its chord error)."""
     from transplanter import teeth
 
     curve = curve()
@@ -342,8 +343,9 @@ def test_the_fast_assembly_and_the_symmetry_give_the_boolean_outline(monkeypatch
     monkeypatch.setattr(teeth, "_symmetry", lambda curve, teeth: 1)
     general = generate(curve, cutter, z, internal=internal, shift=x, phase=phase)
     assert not isinstance(general.removed[-1], shapely.MultiPolygon) or len(general.removed[-1].geoms) == 1
-    assert shapely.hausdorff_distance(fast.polygon, general.polygon) < 1e-9
-    assert abs(fast.polygon.area - general.polygon.area) < 1e-9 * general.polygon.area
+    # the same region, but for the tip polyline: sampled on a sector, its vertices differ
+    assert shapely.hausdorff_distance(fast.polygon, general.polygon) < CHORD_TOLERANCE / 10
+    assert abs(fast.polygon.area - general.polygon.area) < 1e-7 * general.polygon.area
     assert np.abs(fast.tip_lands - general.tip_lands).max() < CHORD_TOLERANCE
     assert fast.undercut == general.undercut == 0.0
     for a, b in zip(fast.spaces, general.spaces, strict=True):

@@ -175,9 +175,9 @@ def _on_gear(c, psi, q) -> np.ndarray:
     return np.stack([c[..., 0] + cs * q[..., 0] - sn * q[..., 1], c[..., 1] + sn * q[..., 0] + cs * q[..., 1]], axis=-1)
 
 
-def _tip_region(frame: ArcFrame, distance: float, tolerance: float) -> shapely.Geometry:
+def _tip_region(frame: ArcFrame, distance: float, tolerance: float, turns: int = 1) -> shapely.Geometry:
     """Region inside the pitch curve offset by ``distance`` along N (the tip curve)."""
-    tip = shapely.Polygon(_offset(frame, distance, tolerance))
+    tip = shapely.Polygon(_offset(frame, distance, tolerance, turns))
     return tip if tip.is_valid else shapely.make_valid(tip, method="structure", keep_collapsed=False)
 
 
@@ -241,12 +241,14 @@ def _profile_grid(frame, cutter, s_centres, side, shift, tolerance):
     return tau, y
 
 
-def _offset(frame: ArcFrame, distance: float, tolerance: float) -> np.ndarray:
-    """Points of the pitch curve offset by ``distance`` along N (closed, first point not repeated)."""
+def _offset(frame: ArcFrame, distance: float, tolerance: float, turns: int = 1) -> np.ndarray:
+    """Points of the pitch curve offset by ``distance`` along N (closed, first point not repeated);
+    a curve that turns onto itself ``turns`` times is sampled on one sector, turned onto the rest."""
     n = max(256, int(math.ceil(frame.length / math.sqrt(8 * tolerance * 5.0))))
-    s = frame.length * np.arange(n) / n
-    p, _, nrm, _ = frame.at(s)
-    return p + distance * nrm
+    n = -(-n // turns)  # per sector
+    s = frame.length * np.arange(n) / (n * turns)
+    p, _, nrm, _ = frame.at(s, curvature=False)
+    return _turned((p + distance * nrm)[None], turns).reshape(-1, 2)
 
 
 def _despike(points: np.ndarray, length: float) -> np.ndarray:
@@ -310,7 +312,7 @@ class _Apart:
     crossings: np.ndarray
 
 
-def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset) -> _Apart | None:
+def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset, turns=1) -> _Apart | None:
     """The tooth spaces as one valid MultiPolygon without a union, or None.
 
     Each envelope is kept from the last sample before it enters the blank to the first after it
@@ -318,6 +320,7 @@ def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset) -> _
     blank, no space folds (no undercut loop) and no two touch (a tooth between each pair), the
     spaces are already a valid MultiPolygon — the usual case, and a GEOS union of all spaces
     saved. Otherwise None: :func:`_space_polygons` and a union do it, as they always can.
+    The crossings of the tip curve are found on one of the ``turns`` symmetric sectors.
     """
     if not isinstance(tip, shapely.Polygon) or tip.interiors or not in_blank.any(axis=1).all():
         return None
@@ -347,9 +350,12 @@ def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset) -> _
     spaces = shapely.MultiPolygon(list(shapely.polygons(shapely.linearrings(coords, indices=owner))))
     if not spaces.is_valid:
         return None
-    outside = np.stack([y[rows, first], y[rows, last]], axis=1)
-    inside = np.stack([y[rows, first + 1], y[rows, last - 1]], axis=1)
-    return _Apart(spaces, kept, _crossing(frame, outside, inside, s_centres[:, None], offset))
+    k = rows[: len(rows) // turns]
+    outside = np.stack([y[k, first[k]], y[k, last[k]]], axis=1)
+    inside = np.stack([y[k, first[k] + 1], y[k, last[k] - 1]], axis=1)
+    crossings = _crossing(frame, outside, inside, s_centres[k, None], offset)
+    sectors = frame.length / turns * np.arange(turns)
+    return _Apart(spaces, kept, (crossings[None] + sectors[:, None, None]).reshape(-1, 2))
 
 
 def _foot(frame, pts, s0, tol: float = 1e-12):
@@ -374,9 +380,8 @@ def _crossing(frame, outside, inside, s0, offset, iterations: int = 2):
     by regula falsi on the height above the tip curve (round-off in a few steps: the segments
     are one envelope sample long, where the height is nearly linear)."""
     a, b = outside, inside
-    sa, ha = _foot(frame, a, s0)
-    sb, hb = _foot(frame, b, sa)
-    ha, hb = ha - offset, hb - offset
+    both, h = _foot(frame, np.stack([a, b]), np.stack([s0, s0]))
+    (sa, sb), (ha, hb) = both, h - offset
     s = sa
     for _ in range(iterations):
         w = ha / np.where(ha == hb, 1.0, ha - hb)
@@ -465,12 +470,12 @@ def generate(
     # the envelope of one symmetric sector, turned onto the others (a circle: one space)
     turns = _symmetry(curve, teeth)
     tau, y = _profile_grid(frame, cutter, s_centres[: teeth // turns], side, shift, tolerance)
-    tip = _tip_region(frame, side * (addendum + shift) * m, tolerance)
+    tip = _tip_region(frame, side * (addendum + shift) * m, tolerance, turns)
     shapely.prepare(tip)
     inside_tip = shapely.contains_xy(tip, y[..., 0], y[..., 1])
     in_blank = np.tile(inside_tip if side > 0 else ~inside_tip, (turns, 1))
     y = _turned(y, turns)
-    apart = _apart_spaces(y, in_blank, s_centres, frame, side, m, tip, side * (addendum + shift) * m)
+    apart = _apart_spaces(y, in_blank, s_centres, frame, side, m, tip, side * (addendum + shift) * m, turns)
     if apart is not None:
         cut, doubtful = apart.spaces, in_blank & ~apart.kept  # the kept samples are on the outline
     else:
@@ -482,9 +487,17 @@ def generate(
         ang = 2 * math.pi * np.arange(n_rim) / n_rim
         rim_ring = np.stack([r_rim * np.cos(ang), r_rim * np.sin(ang)], axis=1)
         disc = shapely.Polygon(rim_ring)
-        if isinstance(tip, shapely.Polygon) and not tip.interiors:  # the rim around the tip region
-            body = shapely.difference(shapely.Polygon(rim_ring, [tip.exterior.coords]), cut)
-        else:
+        body = None
+        if isinstance(tip, shapely.Polygon) and not tip.interiors:
+            # cut inside a coarse rim (a 64-gon clear of the spaces: its inradius is past the
+            # deepest space), then give the ring its fine rim: same toothed contour, fewer edges
+            k = 64
+            coarse = rim_ring[:: -(-n_rim // k)]
+            if r_rim * math.cos(math.pi * -(-n_rim // k) / n_rim) > depth:
+                cut_ring = shapely.difference(shapely.Polygon(coarse, [tip.exterior.coords]), cut)
+                if isinstance(cut_ring, shapely.Polygon) and len(cut_ring.interiors) == 1:
+                    body = shapely.Polygon(rim_ring, [cut_ring.interiors[0].coords])
+        if body is None:
             body = shapely.difference(disc, shapely.union(tip, cut))
         removed = (tip, cut)
     else:
@@ -581,7 +594,8 @@ def secondary_cut(
         return 0.0, 0.0
     row, i = np.nonzero(inside)
     pts = shapely.points(xs[row, i], ys[row, i])
-    boundary = body.boundary
+    # the toothed contour (a ring's rim is out of the cutter's reach)
+    boundary = body.interiors[0] if side < 0 else body.boundary
     shapely.prepare(boundary)
     deep = ~shapely.dwithin(boundary, pts, CHORD_TOLERANCE)  # the generating contact sits on the boundary
     if not deep.any():
@@ -784,8 +798,9 @@ def _tooth_spaces(body, doubtful, y, tau, s_centres, frame, allow_undercut, tole
         depth[gone] = shapely.distance(boundary, shapely.points(pts[gone]))
     depth = depth.reshape(y.shape[0], -1).max(axis=1)
     p, _, nrm, _ = frame.at(s_centres, curvature=False)
+    y_lower, y_upper = y[:, lower], y[:, upper]
     out = [
-        ToothSpace(j, float(s_centres[j]), p[j], nrm[j], y[j, lower], y[j, upper], float(depth[j]))
+        ToothSpace(j, float(s_centres[j]), p[j], nrm[j], y_lower[j], y_upper[j], float(depth[j]))
         for j in range(y.shape[0])
     ]
     if not allow_undercut and depth.max() > 0:
