@@ -25,17 +25,25 @@ length built from the exact curve, error < 1e-10 mm). The cutter profile is samp
 adaptively until every chord of the generated outline is within ``tolerance`` of the
 envelope (0.25 µm by default).
 
-The swept tooth space is the region bounded by the envelope, closed on the free side;
-where the envelope folds (undercut) shapely's ``make_valid(method="structure")`` takes the
-union of its loops. The gear is the blank (inside the tip curve, offset ``(h_a + x) m`` from
-the pitch curve to the free side) minus the spaces; a ring is a rim disc minus the tip region
-and the spaces. The brute-force Boolean subtraction of cutter positions is the reference for tests and
+The swept tooth space is the region bounded by the envelope, closed on the free side. The gear
+is the blank (inside the tip curve, offset ``(h_a + x) m`` from the pitch curve to the free
+side) minus the spaces; a ring is a rim disc minus the tip region and the spaces. Usually the
+spaces neither fold nor touch: each envelope is then kept from just outside the blank to just
+outside it again, closed by a short cap (``CAP`` m) on the free side, and all are subtracted at
+once as one valid MultiPolygon — no union. Where an envelope folds (undercut), a cap would
+reach the blank or two spaces touch (a nearly pointed tooth), the general path closes each
+space 3 m out, lets shapely's ``make_valid(method="structure")`` take the union of a fold's
+loops and unions the spaces (:func:`_apart_spaces`, :func:`_space_polygons`; the tests hold the
+two to the same outline). A gear that turns onto itself — a circle's every tooth, an n-lobed
+curve's every lobe (``gcd(n, z)`` sectors) — has its envelope, tip curve and checks computed on
+one sector and turned onto the others. The brute-force Boolean subtraction of cutter positions is the reference for tests and
 benchmarks (``tests/reference_teeth.py``), not part of the library.
 
 Checks, each naming the tooth and the limit: cutter radius against the smallest concave
 (external) or convex (ring) radius of curvature, pitch-curve perimeter against ``z π m``,
 undercut (involute flank removed by the fillet: depth reported), pointed teeth (tip land
-below ``min_land``), teeth that fall apart.
+below ``min_land``; the land measured on the exact tip curve between where the envelopes cross
+it), teeth that fall apart.
 """
 
 from __future__ import annotations
