@@ -361,3 +361,21 @@ def test_nearly_pointed_teeth_take_the_general_path():
     assert gear.tip_lands.min() == pytest.approx(0.152, abs=1e-3)
     with pytest.raises(GeometryError, match=r"pointed tooth 0: its tip land is 0.1521 mm, below min_land"):
         generate(PitchCurve.circle(12.0), cutter, 12, shift=0.9, allow_undercut=True)
+
+
+@pytest.mark.parametrize("z", [22, 27])  # 22: deeper than half a module, measured on the whole ring
+def test_secondary_cutting_is_measured_alike_on_a_sector_and_on_the_whole_ring(monkeypatch, z):
+    """A circular ring is checked for secondary cutting on one sector, the ring clipped around
+    the cutter: the depth found is the one the whole ring gives."""
+    import re
+
+    from transplanter import teeth
+
+    def depth():
+        with pytest.raises(GeometryError, match="secondary cutting") as err:
+            generate(PitchCurve.circle(z * 1.0), ShaperCutter(20, 2.0), z, internal=True)
+        return float(re.search(r"reach ([\d.]+) µm", str(err.value)).group(1))
+
+    sector = depth()
+    monkeypatch.setattr(teeth, "_symmetry", lambda curve, teeth: 1)
+    assert sector == depth() > 1.0

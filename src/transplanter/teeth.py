@@ -36,8 +36,9 @@ space 3 m out, lets shapely's ``make_valid(method="structure")`` take the union 
 loops and unions the spaces (:func:`_apart_spaces`, :func:`_space_polygons`; the tests hold the
 two to the same outline). A gear that turns onto itself — a circle's every tooth, an n-lobed
 curve's every lobe (``gcd(n, z)`` sectors) — has its envelope, tip curve and checks computed on
-one sector and turned onto the others. The brute-force Boolean subtraction of cutter positions is the reference for tests and
-benchmarks (``tests/reference_teeth.py``), not part of the library.
+one sector and turned onto the others. The brute-force Boolean subtraction of cutter positions
+is the reference for tests and benchmarks (``tests/reference_teeth.py``), not part of the
+library.
 
 Checks, each naming the tooth and the limit: cutter radius against the smallest concave
 (external) or convex (ring) radius of curvature, pitch-curve perimeter against ``z π m``,
@@ -579,7 +580,7 @@ def secondary_cut(
     j = (np.round(s / pitch - phase) + phase) * pitch
     c, psi = cutter.placement(frame, s, j, side, shift)
     outline = cutter.outline(per_piece=6)
-    shapely.prepare(body)
+    whole = body
     if side < 0:  # ring: cutter points nearer the axis than the ring's innermost point are in free space
         reach = shapely.distance(shapely.Point(0.0, 0.0), body.interiors[0]) * (1 - 1e-9)
         # whole cutter teeth first: one whose bounding circle stays inside that radius is skipped
@@ -591,24 +592,35 @@ def secondary_cut(
         placed = _on_gear(c[k, None, :], psi[k, None], teeth_q[t])  # (candidates, points, 2)
         xs, ys = placed[..., 0], placed[..., 1]
         near = np.hypot(xs, ys) >= reach
+        margin = cutter.module
+        if turns > 1 and near.any():  # one sector: the ring's teeth within a module of the cutter's
+            x, y = xs[near], ys[near]
+            box = (x.min() - margin, y.min() - margin, x.max() + margin, y.max() + margin)
+            body = shapely.clip_by_rect(body, *box)
+            if not body.is_valid:  # GEOS's fast clip may leave a dirty polygon: clip exactly then
+                body = shapely.intersection(whole, shapely.box(*box))
+        shapely.prepare(body)
         inside = np.zeros(xs.shape, dtype=bool)
         inside[near] = shapely.contains_xy(body, xs[near], ys[near])
     else:
         placed = _on_gear(c[:, None, :], psi[:, None], outline)
         xs, ys = placed[..., 0], placed[..., 1]
         k = np.arange(len(s))
+        margin = math.inf
+        shapely.prepare(body)
         inside = shapely.contains_xy(body, xs, ys)
     if not inside.any():
         return 0.0, 0.0
     row, i = np.nonzero(inside)
     pts = shapely.points(xs[row, i], ys[row, i])
-    # the toothed contour (a ring's rim is out of the cutter's reach)
-    boundary = body.interiors[0] if side < 0 else body.boundary
+    boundary = body.boundary
     shapely.prepare(boundary)
     deep = ~shapely.dwithin(boundary, pts, CHORD_TOLERANCE)  # the generating contact sits on the boundary
     if not deep.any():
         return 0.0, 0.0
     d = shapely.distance(boundary, pts[deep])
+    if d.max() > margin / 2:  # deeper than the clipped edges are far: measure on the whole ring
+        d = shapely.distance(whole.boundary, pts[deep])
     w = int(np.argmax(d))
     return float(d[w]), float(s[k[row[deep][w]]])
 
