@@ -440,6 +440,16 @@ def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys):
     assert "changed since the build" not in capsys.readouterr().out
     design.write_text(design.read_text().replace("SIDE = 4.0", "SIDE = 5.0"))
     assert load_family(parts / "plates.py").parts[0].side == 5.0
+    # a copy imported beforehand (a notebook, pytest's doctest collection) is not served instead
+    stale = type(sys)("_plate")
+    stale.__file__, stale.SIDE = str(design), 4.0
+    sys.modules["_plate"] = stale
+    try:
+        fam = load_family(parts / "plates.py")
+        assert fam.parts[0].side == 5.0 and fam.modules == (str(parts / "_plate.py"),)
+        assert sys.modules["_plate"] is stale  # put back as it was
+    finally:
+        del sys.modules["_plate"]
     assert cli.main(["check", str(out / "plates")]) == 1
     report = capsys.readouterr().out
     assert "a module beside it that it imports) changed since the build" in report

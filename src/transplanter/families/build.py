@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import hashlib
 import json
+import os
 import re
 import runpy
 import sys
@@ -74,21 +75,33 @@ class Family:
 @contextmanager
 def _beside(folder: Path, imported: list[str]) -> Iterator[None]:
     """Run with ``folder`` first on ``sys.path``, as ``python script.py`` would: a part script
-    imports the modules beside it (``_seed004.py`` → ``from _seed004 import ...``). The modules
-    it imported from there are listed in ``imported`` and then forgotten, so the next load
-    reads them afresh (an edited design module is not served from a cache)."""
+    imports the modules beside it (``_seed004.py`` → ``from _seed004 import ...``). Those modules
+    are read afresh — any copy already imported (by a notebook, by pytest's doctest collection)
+    is set aside for the run and put back after — listed in ``imported``, and forgotten again,
+    so the next load reads them afresh too (an edited design module is never served from a cache)."""
     where = str(folder.resolve())
-    before = set(sys.modules)
+    files = {f.name for f in folder.glob("*.py")}
+
+    def beside() -> dict:  # the imported modules whose file is in the folder (by name first: cheap)
+        return {
+            name: module
+            for name, module in list(sys.modules.items())
+            if os.path.basename(getattr(module, "__file__", None) or "") in files
+            and os.path.dirname(os.path.realpath(module.__file__)) == where
+        }
+
+    held = beside()
+    for name in held:
+        del sys.modules[name]
     sys.path.insert(0, where)
     try:
         yield
     finally:
         sys.path.remove(where)
-        for name in sorted(set(sys.modules) - before):
-            origin = getattr(sys.modules[name], "__file__", None)
-            if origin and Path(origin).resolve().parent == Path(where):
-                imported.append(str(folder / Path(origin).name))
-                del sys.modules[name]
+        for name, module in sorted(beside().items()):
+            imported.append(str(folder / os.path.basename(module.__file__)))
+            del sys.modules[name]
+        sys.modules.update(held)
 
 
 def run_script(path: str | Path, imported: list[str] | None = None) -> dict:
