@@ -293,10 +293,10 @@ def _spikes(points: np.ndarray, length: float) -> np.ndarray:
     return np.concatenate([pad, inner, pad], axis=-1)
 
 
-def _space_polygons(y, s_centres, frame, side, module):
-    """Every tooth space as a polygon: its envelope closed 3 m out on the free side, made valid
-    where the envelope folds (undercut) — they overlap outside the blank, so they are unioned."""
-    _, _, nrm, _ = frame.at(s_centres)
+def _space_polygons(y, nrm, side, module):
+    """Every tooth space as a polygon: its envelope closed 3 m out on the free side (along the
+    normals ``nrm`` at the space centres), made valid where the envelope folds (undercut) — they
+    overlap outside the blank, so they are unioned."""
     ext = 3.0 * module
     polys = []
     for j in range(y.shape[0]):
@@ -321,11 +321,12 @@ class _Apart:
     crossings: np.ndarray
 
 
-def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset, turns=1) -> _Apart | None:
+def _apart_spaces(y, in_blank, s_centres, nrm, frame, side, module, tip, offset, turns=1) -> _Apart | None:
     """The tooth spaces as one valid MultiPolygon without a union, or None.
 
     Each envelope is kept from the last sample before it enters the blank to the first after it
-    leaves, and closed by a cap ``CAP`` m out on the free side. When every cap stays off the
+    leaves, and closed by a cap ``CAP`` m out on the free side (along the normals ``nrm`` at the
+    space centres ``s_centres``). When every cap stays off the
     blank, no space folds (no undercut loop) and no two touch (a tooth between each pair), the
     spaces are already a valid MultiPolygon — the usual case, and a GEOS union of all spaces
     saved. Otherwise None: :func:`_space_polygons` and a union do it, as they always can.
@@ -338,7 +339,6 @@ def _apart_spaces(y, in_blank, s_centres, frame, side, module, tip, offset, turn
     last = n - np.argmax(in_blank[:, ::-1], axis=1)
     if first.min() < 0 or last.max() > n - 1:
         return None  # an envelope that starts or ends in the blank: the long closure is needed
-    _, _, nrm, _ = frame.at(s_centres, curvature=False)
     out = (side * CAP * module) * nrm
     rows = np.arange(y.shape[0])
     sample = np.arange(n)
@@ -479,16 +479,18 @@ def generate(
     # the envelope of one symmetric sector, turned onto the others (a circle: one space)
     turns = _symmetry(curve, teeth)
     tau, y = _profile_grid(frame, cutter, s_centres[: teeth // turns], side, shift, tolerance)
-    tip = _tip_region(frame, side * (addendum + shift) * m, tolerance, turns)
+    tip_offset = side * (addendum + shift) * m  # the tip curve: the pitch curve moved along N
+    tip = _tip_region(frame, tip_offset, tolerance, turns)
     shapely.prepare(tip)
     inside_tip = shapely.contains_xy(tip, y[..., 0], y[..., 1])
     in_blank = np.tile(inside_tip if side > 0 else ~inside_tip, (turns, 1))
     y = _turned(y, turns)
-    apart = _apart_spaces(y, in_blank, s_centres, frame, side, m, tip, side * (addendum + shift) * m, turns)
+    centres, _, normals, _ = frame.at(s_centres, curvature=False)
+    apart = _apart_spaces(y, in_blank, s_centres, normals, frame, side, m, tip, tip_offset, turns)
     if apart is not None:
         cut, doubtful = apart.spaces, in_blank & ~apart.kept  # the kept samples are on the outline
     else:
-        cut, doubtful = shapely.union_all(_space_polygons(y, s_centres, frame, side, m)), in_blank
+        cut, doubtful = shapely.union_all(_space_polygons(y, normals, side, m)), in_blank
     if internal:
         depth = float(np.max(np.linalg.norm(y, axis=-1)))
         r_rim = depth + (3.0 * m if rim is None else float(rim))
@@ -500,9 +502,9 @@ def generate(
         if isinstance(tip, shapely.Polygon) and not tip.interiors:
             # cut inside a coarse rim (a 64-gon clear of the spaces: its inradius is past the
             # deepest space), then give the ring its fine rim: same toothed contour, fewer edges
-            k = 64
-            coarse = rim_ring[:: -(-n_rim // k)]
-            if r_rim * math.cos(math.pi * -(-n_rim // k) / n_rim) > depth:
+            every = -(-n_rim // 64)
+            if r_rim * math.cos(math.pi * every / n_rim) > depth:
+                coarse = rim_ring[::every]
                 cut_ring = shapely.difference(shapely.Polygon(coarse, [tip.exterior.coords]), cut)
                 if isinstance(cut_ring, shapely.Polygon) and len(cut_ring.interiors) == 1:
                     body = shapely.Polygon(rim_ring, [cut_ring.interiors[0].coords])
@@ -519,7 +521,7 @@ def generate(
             f"the teeth cut the gear apart ({parts} pieces): the tooth spaces meet below the tip; "
             "check the module, the cutter and the profile shift"
         )
-    spaces = _tooth_spaces(body, doubtful, y, tau, s_centres, frame, allow_undercut, tolerance)
+    spaces = _tooth_spaces(body, doubtful, y, tau, s_centres, centres, normals, allow_undercut, tolerance)
     if internal:
         depth, where = secondary_cut(body, frame, cutter, teeth, shift, side, phase=phase, turns=turns)
         if depth > 4 * tolerance:
@@ -530,7 +532,7 @@ def generate(
                 "fewer teeth or a larger ring"
             )
     if apart is not None:
-        lands = _lands_between(frame, apart.crossings, side * (addendum + shift) * m)
+        lands = _lands_between(frame, apart.crossings, tip_offset)
     else:
         lands = _tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
     thin = np.flatnonzero(lands < min_land * m)
@@ -800,12 +802,13 @@ def _near_boundary(boundary, pts: np.ndarray, distance: float) -> np.ndarray:
     return near
 
 
-def _tooth_spaces(body, doubtful, y, tau, s_centres, frame, allow_undercut, tolerance):
+def _tooth_spaces(body, doubtful, y, tau, s_centres, p, nrm, allow_undercut, tolerance):
     """Per-space metadata; undercut = involute envelope points inside the blank but cut away.
 
     ``doubtful`` (spaces, samples) marks the envelope samples inside the blank that may have been
     cut away: all of them after a union, none but the dropped spikes when the spaces are apart
-    (their kept samples are vertices of the outline)."""
+    (their kept samples are vertices of the outline); ``p``, ``nrm``: the pitch points and
+    normals at the space centres ``s_centres``."""
     flank = ((tau >= 1) & (tau <= 2)) | ((tau >= 5) & (tau <= 6))
     lower, upper = (tau >= 1) & (tau <= 2), (tau >= 5) & (tau <= 6)
     pts = y[:, flank].reshape(-1, 2)
@@ -817,7 +820,6 @@ def _tooth_spaces(body, doubtful, y, tau, s_centres, frame, allow_undercut, tole
         gone[gone] = ~_near_boundary(boundary, pts[gone], 4 * tolerance)
         depth[gone] = shapely.distance(boundary, shapely.points(pts[gone]))
     depth = depth.reshape(y.shape[0], -1).max(axis=1)
-    p, _, nrm, _ = frame.at(s_centres, curvature=False)
     y_lower, y_upper = y[:, lower], y[:, upper]
     out = [
         ToothSpace(j, float(s_centres[j]), p[j], nrm[j], y_lower[j], y_upper[j], float(depth[j]))
