@@ -9,6 +9,7 @@ import trimesh
 
 from transplanter import dxf, formats, step, threemf
 from transplanter.errors import ExportError, GeometryError
+from transplanter.export import csv_bytes
 from transplanter.families.making import Making, manufacture
 from transplanter.solids import Features, circle_polygon
 from transplanter.tolerances import SOLID_VOLUME_REL
@@ -87,6 +88,16 @@ def test_section_of_reads_every_section_format_alike(made):
     assert abs(formats.section_of("plate.outline.csv", csv).area - shapely.Polygon(part.section.exterior).area) < 1e-6
     ring = formats.CSV.read(csv, internal=True)  # a ring's material lies outside its outline
     assert ring.interiors and ring.contains(shapely.Point(0, 40.0))
+
+
+def test_the_csv_writer_writes_the_rows_csv_bytes_would():
+    """CSV.write formats each row in one go; the reference is the csv module (``csv_bytes``)."""
+    rng = np.random.default_rng(15)
+    contour = rng.normal(scale=60.0, size=(500, 2))
+    leading = {"theta_deg": rng.uniform(0, 360, 500), "s_mm": rng.normal(size=500)}
+    for cols in ({}, leading):
+        rows = [[*(f"{c[k]:.6f}" for c in cols.values()), f"{x:.9f}", f"{y:.9f}"] for k, (x, y) in enumerate(contour)]
+        assert formats.CSV.write(contour, cols) == csv_bytes([*cols, "x_mm", "y_mm"], rows)
 
 
 def test_3mf_assembly_names_its_bodies_places_them_and_finds_overlaps(made):

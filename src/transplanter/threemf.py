@@ -62,7 +62,8 @@ def assembly_bytes(parts: list[tuple[str, object, np.ndarray]]) -> bytes:
     for name, solid, transform in parts:
         scene.add_geometry(canonical_mesh(solid), node_name=name, geom_name=name, transform=np.asarray(transform))
     try:
-        raw = trimesh.exchange.threemf.export_3MF(scene)
+        # stored, not deflated: the package is rewritten below and deflated once, there
+        raw = trimesh.exchange.threemf.export_3MF(scene, compression=zipfile.ZIP_STORED)
     except Exception as exc:  # trimesh or lxml refusing the scene
         raise ExportError(f"cannot write the 3MF assembly of {names}: {type(exc).__name__}: {exc}") from exc
     counter = itertools.count()

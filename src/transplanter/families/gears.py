@@ -16,7 +16,7 @@ from transplanter.backlash import backlash_band, resolve_backlash, tolerance_bud
 from transplanter.cutter import Cutter, RackCutter
 from transplanter.errors import ExportError, GeometryError, SpecError, TransplanterError, check_int, check_number
 from transplanter.export import csv_array, csv_bytes, json_bytes
-from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
+from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.interference import pair_limits
 from transplanter.objectives import Site, seed004_objectives
@@ -465,7 +465,7 @@ class ToothedPairStudy(StudyDefaults):
                     f"{self.name}.{role}",
                     gear.blank,
                     gear.cut,
-                    making,
+                    dataclasses.replace(making, step=False),  # written after the 3MF's re-read (step_file)
                     self._notes(role, gear, gears[1 - k], making, pair, mark),
                     lambda pt, g=gear: f"tooth space {g.nearest_space(pt)}",
                     marks=((mark[0], mark[1], "TIMING"),),
@@ -478,6 +478,9 @@ class ToothedPairStudy(StudyDefaults):
             results["assembly"] = self._assembly(pair, sizing, marks, reports["dxf"])
             results["assembly"]["model"], model = assembly_file(self.name, self._placed(results["assembly"], parts))
             files.update(model)
+            for role, making in zip(("driver", "driven"), self.making, strict=True):
+                if making.step:
+                    results[role]["made"]["step"] = step_file(parts[role], files)
             files[f"{self.name}.motion.csv"] = self._motion_csv(pair)
             a = results["assembly"]
             files[f"{self.name}.assembly.dxf"] = dxf.assembly_bytes(
