@@ -13,8 +13,9 @@ laying out and rendering each figure as PNG and SVG; trimesh: writing the 3MF an
 the 3MF and STL; manifold3d: the Boolean subtraction and the assembly's overlap check; ezdxf:
 writing and parsing the DXF), and the imports and part-script loading the builder does before
 any part starts. The wall time of a build on N cores is at least (library time)/N + that start:
-what remains when our own code takes no time at all. And the peak of a process that only imports
-OCP and writes the largest STEP (the seed-004 ring), the memory floor of a build that writes it.
+what remains when our own code takes no time at all. And the peak of a process that only reads
+the largest part's DXF (the seed-004 ring) and writes its STEP: the memory floor of a build that
+writes it.
 
 Run: python benchmarks/build.py
 """
