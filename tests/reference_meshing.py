@@ -14,7 +14,7 @@ import shapely
 from scipy import optimize
 
 from transplanter.errors import SpecError
-from transplanter.validate import FOULING_PITCHES, MeshReport, _coprime, _polygon
+from transplanter.meshing import FOULING_PITCHES, MeshReport, _coprime, _polygon
 
 
 def _place(poly, angle, shift):

@@ -41,6 +41,7 @@ import shapely
 
 __all__ = [
     "Outline",
+    "EdgeIndex",
     "reach_sector",
     "pairs",
     "within",
@@ -131,6 +132,7 @@ class Outline:
         np.maximum.at(self._r_out, bins, np.maximum(r, r[self.next])[e])
         self._r_in = np.full(self.BINS, np.inf)
         np.minimum.at(self._r_in, bins, foot[e])
+        self._near: dict = {}
 
     def gather(self, intervals, turn: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The vertices whose polar angle, once the outline is turned by ``turn[k]``, lies in an
@@ -185,12 +187,56 @@ class Outline:
             out[out] = shapely.contains_xy(self.polygon, p[out, 0], p[out, 1])
         return out
 
+    def near(self, p: np.ndarray, ring: bool, cap: float) -> np.ndarray:
+        """Mask of body-frame points ``p`` (n, 2) that may lie within ``cap`` of the body (or in
+        it); the others are farther, by the radius bounds of every bin that a point within
+        ``cap`` of them can lie in (``ring``: the body lies around its origin's hole)."""
+        key = (ring, cap)
+        if key not in self._near:
+            rho = max(0.5 * self.r_min, cap)
+            k = int(math.ceil(math.asin(min(1.0, cap / rho)) * self.BINS / (2 * math.pi))) + 1
+            bound = self._r_in if ring else self._r_out
+            spread = np.stack([np.roll(bound, j) for j in range(-k, k + 1)])
+            self._near[key] = spread.min(axis=0) - cap if ring else spread.max(axis=0) + cap
+        b = ((np.arctan2(p[:, 1], p[:, 0]) + math.pi) * (self.BINS / (2 * math.pi))).astype(int) % self.BINS
+        rr = np.hypot(p[:, 0], p[:, 1])
+        return rr >= self._near[key][b] if ring else rr <= self._near[key][b]
 
-def reach_sector(own: Outline, own_x: float, other: Outline, other_x: float, other_ring: bool):
+
+class EdgeIndex:
+    """An outline's edges in an STRtree: the distance of points from its boundary, and the nearest
+    boundary point (GEOS measures a point against a whole ring with no index)."""
+
+    def __init__(self, outline: Outline):
+        self.start = outline.xy
+        self.end = outline.xy[outline.next]
+        self._tree = shapely.STRtree(shapely.linestrings(np.stack((self.start, self.end), axis=1)))
+
+    def nearest(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance (n,) of points ``p`` (n, 2) from the boundary, and the nearest boundary points (n, 2)."""
+        if not len(p):
+            return np.zeros(0), np.zeros((0, 2))
+        (which, edge), _ = self._tree.query_nearest(shapely.points(p), return_distance=True, all_matches=False)
+        order = np.argsort(which, kind="stable")
+        edge = edge[order]
+        foot = _foot(p, self.start[edge], self.end[edge])
+        q = foot - p
+        return np.hypot(q[:, 0], q[:, 1]), foot
+
+
+def _foot(p: np.ndarray, ps: np.ndarray, pe: np.ndarray) -> np.ndarray:
+    d = pe - ps
+    dd = _dot(d, d)
+    t = np.clip(_dot(p - ps, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
+    return ps + t[:, None] * d
+
+
+def reach_sector(own: Outline, own_x: float, other: Outline, other_x: float, other_ring: bool, pad: float = 0.0):
     """Polar angles (fixed frame, about ``own``'s origin put at (own_x, 0)) where a vertex of
-    ``own`` can lie inside ``other`` (origin at (other_x, 0)): within its largest radius, or
-    beyond its smallest for a ring. A list of (lo, hi) intervals, or None: everywhere."""
-    pad = (own.r_max - own.r_min) / 64 + own.longest + other.longest
+    ``own`` can lie inside ``other`` (origin at (other_x, 0)), or within ``pad`` of it: within its
+    largest radius, or beyond its smallest for a ring. A list of (lo, hi) intervals, or None:
+    everywhere."""
+    pad = pad + (own.r_max - own.r_min) / 64 + own.longest + other.longest
     r = np.linspace(own.r_min, own.r_max, 65)[:, None]
     th = np.linspace(-math.pi, math.pi, 1441)
     d = np.hypot(own_x + r * np.cos(th) - other_x, r * np.sin(th))
@@ -265,10 +311,7 @@ def crossings(v: np.ndarray, ps: np.ndarray, pe: np.ndarray) -> tuple[np.ndarray
 
 def segment_distance(p: np.ndarray, ps: np.ndarray, pe: np.ndarray) -> np.ndarray:
     """Distance of each point ``p[k]`` from the segment ``ps[k]``–``pe[k]``."""
-    d = pe - ps
-    dd = _dot(d, d)
-    t = np.clip(_dot(p - ps, d) / np.where(dd > 0, dd, 1.0), 0.0, 1.0)
-    q = ps + t[:, None] * d - p
+    q = _foot(p, ps, pe) - p
     return np.hypot(q[:, 0], q[:, 1])
 
 

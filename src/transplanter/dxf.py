@@ -474,7 +474,16 @@ def assembly_bytes(
                     p2=(x, y),
                     distance=-(span * 0.15 + 4 * height),
                     dxfattribs={"layer": "DIMENSIONS"},
-                    override={"dimtxt": height, "dimasz": height, "dimdec": 4, "dimexe": height, "dimexo": height},
+                    # dimlfac 1: the "EZDXF" dimension style scales measurements by 100 (a reader showed 4498.15
+                    # for 44.98 mm)
+                    override={
+                        "dimlfac": 1.0,
+                        "dimtxt": height,
+                        "dimasz": height,
+                        "dimdec": 4,
+                        "dimexe": height,
+                        "dimexo": height,
+                    },
                 )
                 dim.render()
         for k, line in enumerate((f"{name}: assembly in the start position (mm)", *notes)):

@@ -32,6 +32,8 @@ __all__ = [
     "FLAT_ARC_RADIUS_MM",
     "SPIKE_LENGTH",
     "ARC_RADIUS_MM",
+    "REFINE_MM",
+    "REFINE_RAD",
 ]
 
 #: A four-bar loop solved in closed form closes to round-off: links of up to a few
@@ -152,3 +154,13 @@ SPIKE_LENGTH = 50 * CHORD_TOLERANCE
 #: inset 0.3 µm and fitted within 0.25 µm (``tolerances.DXF_INSET_MM``), the blends between the
 #: nose and the finger's flanks differ by tens of µm
 ARC_RADIUS_MM = 2e-3
+
+#: The meshing proof refines every extreme of the free play and the clearance until the values
+#: at the ends of the intervals beside it differ by less than this (mm): a quarter of the 1 µm
+#: to which a stated backlash or clearance must be the true extreme.
+REFINE_MM = 0.25e-3
+
+#: ... or until those intervals are narrower than this (rad of driver turn): where the free play
+#: jumps (a tip leaving a corner), its floor is taken from the continuous side, whose slope on
+#: the shipped pairs is at most ~5 mm/rad, so 1e-6 rad leaves it within 5 nm.
+REFINE_RAD = 1e-6
