@@ -209,7 +209,8 @@ def _reference_cases(ellipse_pair, four_lobe_ring_pair):
 def test_closed_form_check_gives_the_reference_answers(ellipse_pair, four_lobe_ring_pair):
     """The vectorised check against the root-finding implementation it replaced, kept in
     ``tests/reference_meshing.py`` (which searches the contact in a window of 3 modules around the
-    pitch point, so the check is run with that window and no refinement here): meshing, backlash, interfering and internal pairs (either
+    pitch point, so the check is run with that window and no refinement here): meshing, backlash,
+    interfering and internal pairs (either
     gear driving). Contact arcs and backlash agree within MESH_REFERENCE_MM, overlap areas to
     round-off, contact counts exactly where the teeth do not overlap (where they do, the
     counted places of an overlap can differ by one)."""

@@ -38,6 +38,7 @@ import math
 
 import numpy as np
 import shapely
+from scipy.spatial import cKDTree
 
 __all__ = [
     "Outline",
@@ -204,24 +205,56 @@ class Outline:
 
 
 class EdgeIndex:
-    """An outline's edges in an STRtree: the distance of points from its boundary, and the nearest
-    boundary point (GEOS measures a point against a whole ring with no index)."""
+    """An outline's boundary prepared for distances: samples along every edge at most
+    ``SPACING`` apart in a k-d tree (scipy), the exact segment distance taken only for the points
+    that the samples cannot settle."""
+
+    #: boundary samples at most this far apart along every edge, mm
+    SPACING = 0.02
 
     def __init__(self, outline: Outline):
         self.start = outline.xy
         self.end = outline.xy[outline.next]
-        self._tree = shapely.STRtree(shapely.linestrings(np.stack((self.start, self.end), axis=1)))
+        d = self.end - self.start
+        length = np.hypot(d[:, 0], d[:, 1])
+        pieces = np.maximum(1, np.ceil(length / self.SPACING)).astype(int)
+        edge = np.repeat(np.arange(len(length)), pieces)
+        t = (np.arange(len(edge)) - np.repeat(np.cumsum(pieces) - pieces, pieces)) / pieces[edge]
+        self._edge = edge
+        self._tree = cKDTree(self.start[edge] + t[:, None] * d[edge])
+        #: every boundary point lies within this of a sample
+        self._half = 0.5 * float(np.max(length / pieces))
 
-    def nearest(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Distance (n,) of points ``p`` (n, 2) from the boundary, and the nearest boundary points (n, 2)."""
+    def nearest(self, p: np.ndarray, group: np.ndarray, groups: int) -> tuple[np.ndarray, np.ndarray]:
+        """For each group (a meshing step) of points ``p`` (n, 2; ``group`` (n,) int < ``groups``):
+        the smallest distance (groups,) from the boundary, inf for an empty group, and the point
+        with its nearest boundary point (groups, 2, 2), NaN for an empty group.
+
+        The nearest sample bounds each point's distance d within [d_s - half, d_s]; only points
+        whose lower bound reaches their group's smallest d_s are measured exactly, against every
+        edge with a sample within d_s + half (the edge holding the nearest boundary point has one).
+        """
+        best = np.full(groups, np.inf)
+        pts = np.full((groups, 2, 2), np.nan)
         if not len(p):
-            return np.zeros(0), np.zeros((0, 2))
-        (which, edge), _ = self._tree.query_nearest(shapely.points(p), return_distance=True, all_matches=False)
-        order = np.argsort(which, kind="stable")
-        edge = edge[order]
-        foot = _foot(p, self.start[edge], self.end[edge])
-        q = foot - p
-        return np.hypot(q[:, 0], q[:, 1]), foot
+            return best, pts
+        d_s, _ = self._tree.query(p)
+        upper = np.full(groups, np.inf)
+        np.minimum.at(upper, group, d_s)
+        keep = np.flatnonzero(d_s - self._half <= upper[group])
+        found = self._tree.query_ball_point(p[keep], d_s[keep] + self._half)
+        counts = np.fromiter((len(f) for f in found), dtype=int, count=len(found))
+        owner = np.repeat(keep, counts)
+        edges = self._edge[np.concatenate(found).astype(int)] if counts.sum() else np.zeros(0, dtype=int)
+        key = np.unique(owner * len(self.start) + edges)
+        o, e = key // len(self.start), key % len(self.start)
+        foot = _foot(p[o], self.start[e], self.end[e])
+        dist = np.hypot(*(foot - p[o]).T)
+        np.minimum.at(best, group[o], dist)
+        hit = np.flatnonzero(dist == best[group[o]])
+        pts[group[o[hit]], 0] = p[o[hit]]
+        pts[group[o[hit]], 1] = foot[hit]
+        return best, pts
 
 
 def _foot(p: np.ndarray, ps: np.ndarray, pe: np.ndarray) -> np.ndarray:

@@ -12,7 +12,9 @@ than points, no gaps (each arc ends on the next one's start vertex), no segment 
 
 **Files.** One DXF per part: ``$INSUNITS`` = 4 (mm; ezdxf defaults to metres — and R12 has no
 units header, so the annotation says mm); layers ``CUT`` (all contours), ``START_HOLES`` (a
-start hole inside every inner contour, in the waste), ``ANNOTATION`` (part name, tooth count,
+start hole in every inner contour, in the waste: centred in the largest circle inscribed in the
+hole's exact arcs and ``START_HOLE_MARGIN_MM`` from every cut contour, or where none fits a
+NO START HOLE note instead, :func:`start_hole`), ``ANNOTATION`` (part name, tooth count,
 module, marks, paths such as a finger's tip path); ezdxf's fixed metadata so rebuilding gives identical bytes.
 
 **Read-back.** :func:`read_contours` re-reads the CUT layer and flattens the arcs
@@ -56,6 +58,8 @@ __all__ = [
     "arcs_to_points",
     "DxfPart",
     "dxf_bytes",
+    "start_hole",
+    "START_HOLE_MARGIN_MM",
     "read_contours",
     "assembly_bytes",
     "section_arcs",
@@ -68,6 +72,10 @@ __all__ = [
 ]
 
 LAYERS = {"CUT": 7, "START_HOLES": 1, "ANNOTATION": 3}
+
+#: a start hole keeps at least this much material (mm) between it and every cut contour, so the
+#: wire's first pass never reaches the part (a wire-EDM start hole is drilled, not cut: ±0.05 mm)
+START_HOLE_MARGIN_MM = 0.1
 
 
 def _arc_dev(p0, t0, p1, pts):
@@ -263,6 +271,27 @@ class DxfPart:
             check_number("mark y", y, -MAX_MAGNITUDE, MAX_MAGNITUDE)
 
 
+def start_hole(verts: np.ndarray, diameter: float) -> tuple[float, float] | str:
+    """Where the wire's start hole goes in a hole of the part: the centre of the largest circle
+    inscribed in the hole's *exact* arcs (bulges flattened to 0.1 µm, far inside the margin), if
+    a start hole of ``diameter`` fits there with ``START_HOLE_MARGIN_MM`` to every cut contour;
+    else a note saying why there is none (the wire must then start from the outside)."""
+    hole = shapely.Polygon(_bulge_points(np.asarray(verts, dtype=float), 1e-4))
+    if hole.is_valid and hole.area > 0:
+        circle = shapely.maximum_inscribed_circle(hole, tolerance=1e-4)
+        centre = shapely.get_coordinates(circle)[0]
+        room = float(shapely.distance(shapely.Point(centre), hole.exterior))
+        if room >= diameter / 2 + START_HOLE_MARGIN_MM:
+            return float(centre[0]), float(centre[1])
+        widest = f"largest inscribed diameter {2 * room:.3f} mm"
+    else:
+        widest = "no area"
+    return (
+        f"NO START HOLE: a {diameter:g} mm start hole does not fit this hole with {START_HOLE_MARGIN_MM:g} mm "
+        f"to its contour ({widest}); thread the wire from outside or drill it smaller"
+    )
+
+
 def _rings(section: shapely.Polygon):
     yield np.asarray(section.exterior.coords), False
     for r in section.interiors:
@@ -343,9 +372,12 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_
         for verts, inner in arcs:
             add_contour(msp, verts, version, "CUT")
             if inner:
-                hole = shapely.Polygon(verts[:, :2])
-                centre = shapely.maximum_inscribed_circle(hole).coords[0] if hole.area > 0 else verts[0, :2]
-                msp.add_circle(centre, part.start_hole / 2, dxfattribs={"layer": "START_HOLES"})
+                placed = start_hole(verts, part.start_hole)
+                if isinstance(placed, str):
+                    x, y = verts[0, :2]
+                    msp.add_text(placed, dxfattribs={"layer": "ANNOTATION", "height": 0.5}).set_placement((x, y))
+                else:
+                    msp.add_circle(placed, part.start_hole / 2, dxfattribs={"layer": "START_HOLES"})
         minx, miny, maxx, maxy = section.bounds
         height = max(2.0, 0.02 * (maxy - miny))
         for path in part.paths:

@@ -427,6 +427,7 @@ class _Mesh:
         # an edge of each, and the contact gap)
         self.pad = tol + drv.longest + drn.longest
         self.whole = half >= drv.r_max + drn.r_max + abs(self.centre)
+        self._reach = None  # with ``whole``: where the contact search gathers each gear's vertices
         self.pen, self.foul, self.dist, self.te, self.bl, self.nc = (np.zeros(steps) for _ in range(6))
         self.clear = np.zeros(steps)
         self.clear_points = np.full((steps, 2, 2), np.nan)
@@ -437,8 +438,21 @@ class _Mesh:
     def like(cls, mesh: _Mesh, phi1) -> _Mesh:
         """A mesh of the same pair at other driver angles (the outlines and sectors shared)."""
         out = cls(mesh.pair, mesh.drv, mesh.drn, mesh.module, phi1, mesh.half, mesh.tol, mesh.sectors)
-        out._index = mesh._index
+        out._index, out._reach = mesh._index, mesh.reach
         return out
+
+    @property
+    def reach(self):
+        """The sectors where a vertex of each gear can meet the other within a tooth of free play
+        (the overlap's reach sectors, grown by the arc a driven vertex moves through that turn)."""
+        if self._reach is None:
+            turn = float(self.span.max()) * (self.drv.r_max + self.drn.r_max) + self.tol
+            c = self.centre
+            self._reach = (
+                contact.reach_sector(self.drv, 0.0, self.drn, c, self.pair.ring == "driven", turn),
+                contact.reach_sector(self.drn, c, self.drv, 0.0, self.pair.ring == "driver", turn),
+            )
+        return self._reach
 
     def all(self) -> None:
         """Fill every array, a chunk of steps at a time."""
@@ -463,34 +477,22 @@ class _Mesh:
         edges1, edges2, sector1, sector2 = self._index
         psi1 = self.psi1[ks]
         psi2 = self.psi2[ks] + self.turn * (self.te[ks] + 0.5 * self.bl[ks] / self.r2[ks])
-        best = np.full(len(ks), CLEARANCE_CAP_MM)
-        pts = np.full((len(ks), 2, 2), np.nan)
+        n = len(ks)
         # driver vertices against the driven edges, in the driven body's frame
         s1, i1 = drv.gather(sector1, psi1)
         b1 = contact.rotate(drv.placed(i1, psi1, -c, s1), -psi2, s1)
         keep = drn.near(b1, self.pair.ring == "driven", CLEARANCE_CAP_MM)
-        s1, b1 = s1[keep], b1[keep]
-        d1, f1 = edges2.nearest(b1)
+        d1, p1 = edges2.nearest(b1[keep], s1[keep], n)
         # driven vertices against the driver edges, in the driver body's frame
         s2, i2 = drn.gather(sector2, psi2)
         b2 = contact.rotate(drn.placed(i2, psi2, c, s2), -psi1, s2)
         keep = drv.near(b2, self.pair.ring == "driver", CLEARANCE_CAP_MM)
-        s2, b2 = s2[keep], b2[keep]
-        d2, f2 = edges1.nearest(b2)
-        d = np.concatenate((d1, d2))
-        st = np.concatenate((s1, s2))
-        if len(d):
-            np.minimum.at(best, st, d)
-            # where: the pair of points at each step's minimum, turned into the driver's frame
-            first = np.full(len(ks), -1)
-            hit = np.flatnonzero(d == best[st])
-            first[st[hit[::-1]]] = hit[::-1]
-            for j in np.flatnonzero(first >= 0):
-                h = first[j]
-                a, b = (b1[h], f1[h]) if h < len(d1) else (f2[h - len(d1)], b2[h - len(d1)])
-                if h < len(d1):  # driven frame -> world -> driver frame
-                    a, b = (contact.rotate(contact.rotate(q[None], psi2[j]) + (c, 0.0), -psi1[j])[0] for q in (a, b))
-                pts[j] = (a, b)
+        d2, p2 = edges1.nearest(b2[keep], s2[keep], n)
+        # the two nearest points in the driver's frame: (driver point, driven point)
+        for j in np.flatnonzero(d1 < d2):  # driven frame -> world -> driver frame
+            p1[j] = contact.rotate(contact.rotate(p1[j], psi2[j]) + (c, 0.0), -psi1[j])
+        pts = np.where((d1 < d2)[:, None, None], p1, p2[:, ::-1])
+        best = np.minimum(np.minimum(d1, d2), CLEARANCE_CAP_MM)
         best[self.pen[ks] > 0] = 0.0
         self.clear[ks] = best
         self.clear_points[ks] = pts
@@ -501,9 +503,15 @@ class _Mesh:
 
     def run(self, ks: np.ndarray) -> None:
         overlapping, marks = self._overlap(ks)
-        if self.whole:  # every vertex in reach: one pass with a tooth of free play
-            reach = self.span[ks] * (self.drn.r_max + self.drv.r_max) + self.module
-            self._window(ks, np.arange(len(ks)), reach, self.span[ks], overlapping, marks, final=True)
+        if self.whole:  # every vertex in reach: contacts within a quarter module of turn first
+            near = np.minimum(0.25 * self.module / self.r2[ks], self.span[ks])
+            reach = near * (self.drn.r_max + self.drv.r_max) + self.module
+            valid = self._window(ks, np.arange(len(ks)), reach, near, overlapping, marks)
+            redo = np.flatnonzero(~valid)  # then a tooth of free play where either side is farther
+            if len(redo):
+                k = ks[redo]
+                reach = self.span[k] * (self.drn.r_max + self.drv.r_max) + self.module
+                self._window(ks, redo, reach, self.span[k], overlapping, marks, final=True)
             return
         px = self.r1[ks]
         box_rho = np.abs(px - self.centre) + math.sqrt(2) * (self.half + self.drv.longest)
@@ -575,7 +583,7 @@ class _Mesh:
         # driver vertices within an edge of the window (every edge reaching it starts there)
         g1 = self.half + drv.longest
         hw = np.where(px > g1, np.arctan2(g1, np.maximum(px - g1, 1e-300)), math.pi)
-        s1, j1 = drv.gather([(-hw, hw)], psi1)
+        s1, j1 = drv.gather(self.reach[0] if self.whole else [(-hw, hw)], psi1)
         q1 = drv.placed(j1, psi1, at=s1)
         keep = self._in_box(q1, px[s1], drv.longest)
         keep &= _in_band(q1 - (c, 0.0), drn, self.pair.ring == "driven", self.pad)
@@ -588,7 +596,7 @@ class _Mesh:
         d = px - c
         hw = np.where(np.abs(d) > g2, np.arctan2(g2, np.maximum(np.abs(d) - g2, 1e-300)), math.pi)
         mid = np.where(d >= 0, 0.0, math.pi)
-        s2, j2 = drn.gather([(mid - hw, mid + hw)], psi2)
+        s2, j2 = drn.gather(self.reach[1] if self.whole else [(mid - hw, mid + hw)], psi2)
         q2 = drn.placed(j2, psi2, c, s2)
         keep = self._in_box(q2, px[s2], (reach + drn.longest)[s2])
         keep &= _in_band(q2, drv, self.pair.ring == "driver", self.pad + limit[s2] * drn.r_max)

@@ -3,8 +3,12 @@
 A 3MF (3D Manufacturing Format) is what slicers, viewers and most CAD systems open as an
 assembly: every part is written once as a mesh in its own frame (the STL's canonical mesh of
 its manifold3d solid) and placed by the build item's transform, named by ``partnumber`` and
-the object's name. trimesh writes the package; its random ``p:UUID`` values are replaced by
-UUIDs derived from the part names, so rebuilding gives identical bytes.
+the object's name. trimesh writes the package; we keep it to the 3MF core specification, which
+the 3MF Consortium's lib3mf reads in strict mode (its conformance check, run by the tests): the
+production extension's random ``p:UUID`` attributes are dropped (lib3mf refuses a file that uses
+that extension without a UUID on every build, item and object — and random ones would change the
+bytes at every build), and so are the extension namespaces trimesh declares and repeats on every
+build item ("Invalid Attribute in namespace"). Rebuilding gives identical bytes.
 
 :func:`read_assembly` re-reads a package with trimesh, one body per part in its assembled
 position; :func:`overlaps` intersects every two bodies (manifold3d) and returns the volumes
@@ -27,7 +31,6 @@ from __future__ import annotations
 import io
 import itertools
 import re
-import uuid
 import zipfile
 
 import manifold3d
@@ -40,8 +43,8 @@ from transplanter.tolerances import ASSEMBLY_OVERLAP_MM3
 
 __all__ = ["ASSEMBLY_OVERLAP_MM3", "placement", "assembly_bytes", "read_assembly", "overlaps"]
 
-
-_NAMESPACE = uuid.UUID("6f1c3e0a-8a4b-5d2e-9c1f-7a0b3c4d5e6f")
+#: the 3MF core namespace: the only one our models declare
+CORE = b"http://schemas.microsoft.com/3dmanufacturing/core/2015/02"
 
 
 def placement(x: float = 0.0, y: float = 0.0, z: float = 0.0, angle: float = 0.0) -> np.ndarray:
@@ -66,21 +69,23 @@ def assembly_bytes(parts: list[tuple[str, object, np.ndarray]]) -> bytes:
         raw = trimesh.exchange.threemf.export_3MF(scene, compression=zipfile.ZIP_STORED)
     except Exception as exc:  # trimesh or lxml refusing the scene
         raise ExportError(f"cannot write the 3MF assembly of {names}: {type(exc).__name__}: {exc}") from exc
-    counter = itertools.count()
-
-    def fixed(_):
-        return f'p:UUID="{uuid.uuid5(_NAMESPACE, "|".join(names) + str(next(counter)))}"'.encode()
-
     out = io.BytesIO()
     with zipfile.ZipFile(io.BytesIO(raw)) as src, zipfile.ZipFile(out, "w", zipfile.ZIP_DEFLATED) as dst:
         for info in src.infolist():
             data = src.read(info)
             if info.filename.endswith(".model"):
-                data = re.sub(rb'p:UUID="[0-9a-f-]+"', fixed, data)
+                data = _core_only(data)
             member = zipfile.ZipInfo(info.filename, date_time=(1980, 1, 1, 0, 0, 0))
             member.compress_type = zipfile.ZIP_DEFLATED
             dst.writestr(member, data)
     return out.getvalue()
+
+
+def _core_only(model: bytes) -> bytes:
+    """A trimesh 3MF model part kept to the core specification (module docstring)."""
+    model = re.sub(rb' p:UUID="[^"]*"', b"", model)
+    model = re.sub(rb' xmlns(?::\w+)?="[^"]*"', b"", model)
+    return model.replace(b"<model ", b'<model xmlns="' + CORE + b'" ', 1)
 
 
 def read_assembly(data: bytes) -> dict[str, trimesh.Trimesh]:

@@ -195,9 +195,10 @@ class ToothedPairStudy(StudyDefaults):
             except ExportError as exc:
                 out[source] = str(exc)
                 continue
-            # every gap, and the extremes refined between the samples (meshing module docstring)
+            # every gap, and the extremes refined between the samples (meshing module docstring) —
+            # not for a finding, whose overlaps are the result
             out[source] = validate.mesh_check(
-                pair, *polys, sizing.module, steps=self.mesh_steps, teeth=int(sizing.teeth[0])
+                pair, *polys, sizing.module, steps=self.mesh_steps, teeth=int(sizing.teeth[0]), refine=self.must_mesh
             )
         return out
 
