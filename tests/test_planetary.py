@@ -267,3 +267,20 @@ def test_optimised_seed004_train_is_made_meshes_and_meets_every_objective(built,
     assert (folder / "optimised_train.tradeoff.png").stat().st_size > 10_000
     page = (folder / "report.html").read_text()
     assert "published reading" in page and "needle-needle clearance" in page
+
+
+def test_objective_viii_is_the_same_wherever_the_sampled_cycle_starts():
+    """Regression: objective viii counted time from the cycle's first sample, so a push late in
+    the cycle saw the ground track set back by a period after the wrap and failed falsely."""
+    import numpy as np
+
+    from transplanter.objectives import back_over_plant
+
+    s = np.linspace(0.0, 1.0, 100, endpoint=False)
+    down = np.column_stack((-20.0 + 20.0 * s, 300.0 - 400.0 * s))  # to the push at (0, -100)
+    up = np.column_stack((30.0 * np.sin(np.pi * s) - 45.0 * s, -100.0 + 300.0 * s))  # out on +x, then back
+    back = np.column_stack((-45.0 + 25.0 * s, 200.0 + 100.0 * s))
+    tip = np.vstack((down, up, back))
+    values = [back_over_plant(np.roll(tip, k, axis=0), 0.0, -20.0, 1.0) for k in (0, 50, 99, 150, 299)]
+    assert max(values) - min(values) < 1e-9
+    assert values[0] > 1.0  # it does go back over the plant: the figure is not a blanket zero

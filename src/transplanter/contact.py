@@ -211,6 +211,8 @@ class EdgeIndex:
 
     #: boundary samples at most this far apart along every edge, mm
     SPACING = 0.02
+    #: nearest samples looked at per point before a ball query is needed
+    NEAREST = 8
 
     def __init__(self, outline: Outline):
         self.start = outline.xy
@@ -242,11 +244,21 @@ class EdgeIndex:
         upper = np.full(groups, np.inf)
         np.minimum.at(upper, group, d_s)
         keep = np.flatnonzero(d_s - self._half <= upper[group])
-        found = self._tree.query_ball_point(p[keep], d_s[keep] + self._half)
-        counts = np.fromiter((len(f) for f in found), dtype=int, count=len(found))
-        owner = np.repeat(keep, counts)
-        edges = self._edge[np.concatenate(found).astype(int)] if counts.sum() else np.zeros(0, dtype=int)
-        key = np.unique(owner * len(self.start) + edges)
+        # the edge holding a point's nearest boundary point has a sample within d_s + half of it: the
+        # K nearest samples hold it where the K-th is farther than that; the ball query settles the rest
+        k = min(self.NEAREST, len(self._edge))
+        d_k, i_k = self._tree.query(p[keep], k=k)
+        d_k, i_k = d_k.reshape(len(keep), k), i_k.reshape(len(keep), k)
+        sure = d_k[:, -1] >= d_k[:, 0] + self._half
+        owner = [np.repeat(keep[sure], k)]
+        edges = [self._edge[i_k[sure]].ravel()]
+        rest = keep[~sure]
+        if len(rest):
+            found = self._tree.query_ball_point(p[rest], d_s[rest] + self._half)
+            counts = np.fromiter((len(f) for f in found), dtype=int, count=len(found))
+            owner.append(np.repeat(rest, counts))
+            edges.append(self._edge[np.concatenate(found).astype(int)] if counts.sum() else np.zeros(0, dtype=int))
+        key = np.unique(np.concatenate(owner) * len(self.start) + np.concatenate(edges))
         o, e = key // len(self.start), key % len(self.start)
         foot = _foot(p[o], self.start[e], self.end[e])
         dist = np.hypot(*(foot - p[o]).T)

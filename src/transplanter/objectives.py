@@ -47,6 +47,7 @@ __all__ = [
     "Objective",
     "gearbox_radius",
     "seed004_objectives",
+    "back_over_plant",
     "ARM_CLEARANCE_MM",
     "ANGLE_DIFFERENCE_DEG",
     "HOLE_WIDTH_MAX_MM",
@@ -126,6 +127,29 @@ def gearbox_radius(ring_max_radius: float, module: float) -> float:
     return ring_max_radius + RING_DEPTH_MODULES * module + HOUSING_WALL_MM
 
 
+def back_over_plant(tip: np.ndarray, soil_level: float, velocity: float, period: float) -> float:
+    """Objective viii: how far (mm) the tip goes back over the plant after leaving the soil, while
+    lower than ``SEEDLING_HEIGHT_MM`` above it.
+
+    ``tip`` (n, 2) mm: one cycle of the tip, frame coordinates, in time order (uniform samples
+    over ``period`` s); ``velocity`` the machine's forward speed along x (mm/s, signed). The ground
+    track is followed from the push (the lowest point) for one cycle, its time counted from the
+    push — so a push late in the sampled cycle is judged as one early in it (the time of a cycle
+    that wraps past its end is unwrapped, not set back by a period).
+    """
+    n = len(tip)
+    low = int(np.argmin(tip[:, 1]))
+    path = np.roll(tip, -low, axis=0)  # from the push onwards
+    ground_x = path[:, 0] + velocity * period * np.arange(n) / n
+    below = path[:, 1] < soil_level
+    if below.all():
+        return 0.0
+    after = np.arange(int(np.flatnonzero(~below)[0]), n)
+    rising = after[: int(np.argmax(path[after, 1] > soil_level + SEEDLING_HEIGHT_MM))]
+    exit_side = np.sign(ground_x[after[0]] - ground_x[0])
+    return float(np.max(np.maximum(0.0, -exit_side * (ground_x[rising] - ground_x[0])), initial=0.0))
+
+
 def seed004_objectives(
     train, site: Site, module: float, metrics: TransplantingMetrics | None = None, n: int = 1440
 ) -> tuple[Objective, ...]:
@@ -144,15 +168,8 @@ def seed004_objectives(
     # soil: entries per cycle, and the return over the plant
     below = s.tip[:, 1] < m.soil_level
     entries = int(np.count_nonzero(below & ~np.roll(below, 1)))
-    t = s.theta / train.carrier_speed
-    ground_x = s.tip[:, 0] + m.travel_direction * m.forward_speed * t
-    low = int(np.argmin(s.tip[:, 1]))
-    order = np.roll(np.arange(n), -low)  # from the push onwards
-    plant_x = ground_x[low]
-    after = order[np.flatnonzero(~below[order])[0] :] if (~below).any() else order[:0]
-    rising = after[: int(np.argmax(s.tip[after, 1] > m.soil_level + SEEDLING_HEIGHT_MM))] if after.size else after
-    exit_side = np.sign(ground_x[after[0]] - plant_x) if after.size else 1.0
-    over = float(np.max(np.maximum(0.0, -exit_side * (ground_x[rising] - plant_x)), initial=0.0))
+    period = 2 * math.pi / abs(train.carrier_speed)
+    over = back_over_plant(s.tip, m.soil_level, m.travel_direction * m.forward_speed, period)
     push_down = 1.0 if 180.0 <= m.pushing_angle <= 360.0 and entries == 1 else 0.0
     inf = math.inf
     return (

@@ -324,38 +324,60 @@ def cam_figure(cam, title: str) -> plt.Figure:
     return fig
 
 
-def meshing_figure(reports: dict, title: str, train=None, train_note: str = "", band=None) -> plt.Figure:
-    """Penetration (with the fouling share), transmission error and backlash over the driver's
-    turn for each checked source of a gear pair (``{"outline": MeshReport, "dxf": ..., ...}``),
-    the backlash against the design ``band`` (mm: tolerance budget .. target's upper end), and
-    the needle-tip deviation of a train rebuilt from the parts if ``train`` (a TrainReport) is given."""
-    rows = 4 if train is not None else 3
+def meshing_figure(
+    reports: dict, title: str, train=None, train_note: str = "", band=None, clearance=None
+) -> plt.Figure:
+    """Penetration (with the fouling share), transmission error, backlash and mid-play clearance
+    over the driver's turn for each checked source of a gear pair (``{"outline": MeshReport,
+    "dxf": ..., ...}``) — backlash and clearance at the uniform and the refined samples — the
+    backlash against the design ``band`` (mm: tolerance budget .. target's upper end), the
+    clearance against the ``clearance`` it must keep (mm), and the needle-tip deviation of a train
+    rebuilt from the parts if ``train`` (a TrainReport) is given."""
+    rows = 5 if train is not None else 4
     fig, axes = plt.subplots(rows, 1, figsize=(10, 2.4 * rows + 0.6), sharex=False)
-    ax1, ax2, ax3 = axes[0], axes[1], axes[2]
+    ax1, ax2, ax3, ax5 = axes[0], axes[1], axes[2], axes[3]
     for i, (source, r) in enumerate(sorted(reports.items())):
         deg = np.degrees(r.driver_angle)
         ax1.plot(deg, r.penetration, f"C{i}-", lw=0.9, label=f"{source}: overlap")
         if r.max_fouling > 0:
             ax1.plot(deg, r.fouling, f"C{i}:", lw=0.9, label=f"{source}: fouling (away from pitch point)")
         ax2.plot(deg, 1000 * r.transmission_error, f"C{i}-", lw=0.8, label=source)
-        ax3.plot(deg, 1000 * r.backlash, f"C{i}-", lw=0.8, label=source)
+        angle, values = r.samples("backlash")
+        lo = r.backlash_min
+        ax3.plot(np.degrees(angle), 1000 * values, f"C{i}-", lw=0.8, label=f"{source} (min {1000 * lo.value:.1f})")
+        ax3.plot([lo.at_deg], [1000 * lo.value], f"C{i}v", ms=5)
+        if r.clearance is not None:
+            angle, values = r.samples("clearance")
+            c = r.clearance_min
+            ax5.plot(np.degrees(angle), 1000 * values, f"C{i}-", lw=0.8, label=f"{source} (min {1000 * c.value:.1f})")
+            ax5.plot([c.at_deg], [1000 * c.value], f"C{i}v", ms=5)
     if band is not None:
         ax3.axhspan(1000 * band[0], 1000 * band[1], color="0.85", zorder=0, label="design band")
         ax3.axhline(1000 * band[0], color="C3", lw=0.8, ls="--", label="tolerance budget")
+    if clearance is not None:
+        ax5.axhline(1000 * clearance, color="C3", lw=0.8, ls="--", label="required (half the budget)")
+    ax5.set_ylabel("clearance (µm)")
+    ax5.set_title(
+        "smallest distance between the outlines, driven gear at mid-play (every gap; refined between samples)",
+        fontsize=9,
+    )
     ax1.set_ylabel("overlap (mm²)")
     ax1.set_title(f"{title}: penetration over the driver's turn", fontsize=9)
     ax2.set_ylabel("transmission error (µm)")
     ax2.set_title("geometric transmission error at the driven pitch point (driving flanks)", fontsize=9)
     ax3.set_ylabel("backlash (µm)")
-    ax3.set_title("circumferential backlash at the driven pitch point against the design band", fontsize=9)
-    for ax in (ax1, ax2, ax3):
+    ax3.set_title(
+        "circumferential backlash (free play) at the driven pitch point against the design band; v: its minimum",
+        fontsize=9,
+    )
+    for ax in (ax1, ax2, ax3, ax5):
         ax.set_xlim(0, 360)
         ax.set_xticks(range(0, 361, 45))
         ax.set_xlabel("driver angle (deg)")
         ax.grid(True, lw=0.3)
         ax.legend(fontsize=7, loc="upper right")
     if train is not None:
-        ax4 = axes[3]
+        ax4 = axes[4]
         ax4.plot(np.degrees(train.theta), 1000 * train.deviation, "C3.", ms=2)
         ax4.set_xlabel("carrier angle (deg)")
         ax4.set_ylabel("tip deviation (µm)")

@@ -156,11 +156,11 @@ SPIKE_LENGTH = 50 * CHORD_TOLERANCE
 ARC_RADIUS_MM = 2e-3
 
 #: The meshing proof refines every extreme of the free play and the clearance until the values
-#: at the ends of the intervals beside it differ by less than this (mm): a quarter of the 1 µm
-#: to which a stated backlash or clearance must be the true extreme.
-REFINE_MM = 0.25e-3
+#: at the ends of the intervals beside it differ by less than this (mm): half the 1 µm to which a
+#: stated backlash or clearance must be the true extreme.
+REFINE_MM = 0.5e-3
 
 #: ... or until those intervals are narrower than this (rad of driver turn): where the free play
 #: jumps (a tip leaving a corner), its floor is taken from the continuous side, whose slope on
-#: the shipped pairs is at most ~5 mm/rad, so 1e-6 rad leaves it within 5 nm.
-REFINE_RAD = 1e-6
+#: the shipped pairs is at most ~5 mm/rad, so 1e-5 rad leaves it within 0.05 µm.
+REFINE_RAD = 1e-5

@@ -111,6 +111,8 @@ class CamStudy(StudyDefaults):
             notes = (
                 f"max pressure angle {math.degrees(cam.max_pressure_angle):.2f} deg",
                 f"width {self.making.width:g} mm",
+                f"mates: the {type(self.follower).__name__} follower of {self.name} (see the manifest)",
+                "timing: cam angles are measured from +x of this drawing (the profile CSV is listed against them)",
             )
             res, made, _ = manufacture(
                 f"{self.name}.cam",

@@ -329,12 +329,12 @@ class ToothedPairStudy(StudyDefaults):
             f"{gear.teeth} teeth, module {gear.module:.6g} mm, face width {making.width:g} mm",
             f"mates with {self.name}.{other} ({mate.teeth} teeth), {'external' if external else 'internal'} mesh, "
             f"centre distance {pair.centre_distance:.4f} mm",
-            f"backlash {j:.4f} mm circumferential by design; cutting tolerance +/-{self.tolerance:g} mm",
+            f"backlash {j:.4f} mm circumferential by design",
             f"timing mark: {'notch' if gear.internal else 'hole'} dia {mark[2]:.2f} mm at +x meets the mate's mark "
             f"at the start; {turn}",
         ]
         if self.train is not None and role == "driven":
-            notes.append(f"make {self.train.planets}: one planet per arm, {360 / self.train.planets:g} deg apart")
+            notes.append(f"one planet per arm, {360 / self.train.planets:g} deg apart on the carrier")
         if j == 0:
             notes.append(
                 "ZERO BACKLASH by request: no play for the cutting tolerance - the pair binds unless the centre "
@@ -416,7 +416,7 @@ class ToothedPairStudy(StudyDefaults):
         files = {}
         shown = trains.get("stl", trains.get("outline"))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
-        fig = plots.meshing_figure(readable, self.name, shown, note, band=band)
+        fig = plots.meshing_figure(readable, self.name, shown, note, band=band, clearance=self.min_clearance)
         files.update(plots.figure_files(fig, f"{self.name}.meshing"))
         return results, files, problems
 
@@ -501,6 +501,8 @@ class ToothedPairStudy(StudyDefaults):
                     features=dataclasses.replace(making.features, notches=(mark,))
                     if gear.internal
                     else dataclasses.replace(making.features, holes=(*making.features.holes, mark)),
+                    tolerance=self.tolerance,
+                    quantity=self.train.planets if self.train is not None and role == "driven" else making.quantity,
                 )
                 res, made, part = manufacture(
                     f"{self.name}.{role}",

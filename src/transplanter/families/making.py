@@ -7,8 +7,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from transplanter import dxf, formats, solids
-from transplanter.errors import ExportError, GeometryError, SpecError, check_number, finite_positive
+from transplanter.errors import ExportError, GeometryError, SpecError, check_int, check_number, finite_positive
 from transplanter.precision import rounded, significant
+from transplanter.tolerances import WIRE_EDM_TOLERANCE
 
 __all__ = ["Making", "manufacture", "step_file", "assembly_file", "check_shop_files"]
 
@@ -16,7 +17,8 @@ __all__ = ["Making", "manufacture", "step_file", "assembly_file", "check_shop_fi
 @dataclass(frozen=True)
 class Making:
     """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions,
-    and whether a STEP is written."""
+    whether a STEP is written, how many to make and the contour tolerance (± mm) the shop holds —
+    the last two are stated in the part's notes."""
 
     width: float
     features: solids.Features = field(default_factory=solids.Features)
@@ -24,6 +26,10 @@ class Making:
     dxf_versions: tuple[str, ...] = ("R2000",)
     #: write the STEP too (what CAD users open; ~1 s per 1000 arcs of outline)
     step: bool = True
+    #: how many of the part to make
+    quantity: int = 1
+    #: contour tolerance the shop holds, ± mm normal to the surface
+    tolerance: float = WIRE_EDM_TOLERANCE
 
     def __post_init__(self) -> None:
         finite_positive("face width", self.width)
@@ -35,6 +41,8 @@ class Making:
         check_number("wire spark gap", self.wire[1], 0.0, 1.0, unit="mm")
         if not isinstance(self.step, bool):
             raise SpecError.out_of_range("step", self.step, "True or False")
+        check_int("quantity", self.quantity, 1, 10_000)
+        check_number("tolerance", self.tolerance, 0.0, 1.0, low_open=True, unit="mm")
         for v in self.dxf_versions:
             if v not in ("R2000", "R12"):
                 raise SpecError.out_of_range("dxf_versions", self.dxf_versions, "'R2000' and/or 'R12'")
@@ -54,9 +62,11 @@ def manufacture(
     (:mod:`transplanter.formats`): the STL, every DXF version, the STEP.
 
     ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12"); ``marks`` and
-    ``paths`` go to the DXF's ANNOTATION layer (``dxf.DxfPart``). Returns the results, the files
-    by name and the :class:`~transplanter.formats.MadePart` (for assemblies).
+    ``paths`` go to the DXF's ANNOTATION layer (``dxf.DxfPart``); the notes get the quantity and
+    the contour tolerance from ``making``. Returns the results, the files by name and the
+    :class:`~transplanter.formats.MadePart` (for assemblies).
     """
+    notes = (*notes, f"make {making.quantity}; contour tolerance +/-{making.tolerance:g} mm")
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
     bad = dxf.wire_violations(section, wire_r)

@@ -157,9 +157,19 @@ class LinkPlatesStudy(StudyDefaults):
         fb = self.arm.linkage
         joints = "; ".join(f"{label} dia {j.hole:g} ({j.name})" for label, _, _, j in self.joints()[link])
         length = {"frame": fb.ground, "crank": fb.crank, "coupler": fb.coupler, "rocker": fb.rocker}[link]
+        shared = self.joints()
+        mates = "; ".join(
+            f"{label} with the "
+            + " and the ".join(
+                other for other in LINKS if other != link and any(lab == label for lab, _, _, _ in shared[other])
+            )
+            for label, _, _, _ in shared[link]
+        )
         notes = [
             f"{link} plate of {self.arm.name}, {self.thickness:g} mm thick",
             f"joint centres {length:.4f} mm apart; holes: {joints}",
+            f"mates: {mates}",
+            "timing: assembled at crank angle 0 as placed in the assembly 3MF; joint labels on ANNOTATION",
         ]
         if link == "crank":
             notes.append("keyed to the drive shaft at O2 (DIN 6885-1)")

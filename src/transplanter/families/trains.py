@@ -192,7 +192,8 @@ class PlanetaryStudy(StudyDefaults):
         stem = f"{self.name}.carrier"
         notes = (
             f"carrier plate: {tr.planets} planet shafts on R{a:.4f} mm, {360 / tr.planets:g} deg apart",
-            "the first on +x carries arm I",
+            "mates: the planets on their shafts, inside the ring; the carrier shaft in the bore",
+            "timing: the shaft on +x carries arm I",
             f"width {making.width:g} mm",
         )
         res, files, _ = manufacture(
