@@ -104,9 +104,6 @@ class Extreme:
     value: float
     at_deg: float
 
-    def as_dict(self) -> dict:
-        return {"mm": significant(self.value), "at_driver_deg": round(self.at_deg, 4)}
-
 
 @dataclass(frozen=True)
 class MeshReport:
@@ -394,8 +391,10 @@ def _approaches(mesh: _Mesh) -> np.ndarray:
     """Driver angles (rad) where a tooth tip of either gear passes closest to the other gear's
     outline — the places where the free play and the clearance dip — found on a grid of
     ``APPROACH_STEPS`` positions from the tips alone (the few vertices near each tip radius,
-    with the driven gear at its design angle plus the mean play centre): each local minimum of
-    that distance under ``CLEARANCE_CAP_MM``, where no uniform sample lies within a grid step.
+    with the driven gear at its design angle plus the mean play centre): each minimum of that
+    distance that stands out of its surroundings by ``DIP_PROMINENCE_MM`` (within
+    ``CLEARANCE_CAP_MM``), where no uniform sample lies within a grid step. A heuristic that finds
+    candidates, not a bound: what it finds is then measured exactly and refined.
 
     A tip passing a flank makes a dip 0.6–1° wide on the seed-004 pair (free play falling by
     85 µm); the uniform meshing grid (2°) saw two of its eight copies, this scan (0.1°) all."""
