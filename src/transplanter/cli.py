@@ -207,12 +207,15 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 def _mesh_line(r: dict) -> str:
     """One source's meshing check (``validate.mesh_check`` figures), in words."""
+    clearance = ""
+    if "clearance_mm" in r:
+        clearance = f"clearance {_fmt_um(r['clearance_mm'])} at {r['clearance_at_driver_deg']:.1f} deg, "
     return (
         f"overlap {r['max_penetration_mm2']:.3g} mm² (fouling {r['max_fouling_mm2']:.3g}), "
         f"TE max {_fmt_um(r['max_transmission_error_mm'])} "
         f"rms {_fmt_um(r['rms_transmission_error_mm'])}, "
         f"backlash {_fmt_um(r['backlash_mm'][0])}..{_fmt_um(r['backlash_mm'][1])}, "
-        f"contact ratio {r['contact_ratio']:.3g}"
+        f"{clearance}contact ratio {r['contact_ratio']:.3g}"
     )
 
 
