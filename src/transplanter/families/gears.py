@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -182,25 +183,30 @@ class ToothedPairStudy(StudyDefaults):
         """Mesh the pair as found in ``files`` (this study's file names → bytes) for each source
         present; returns ``{source: validate.MeshReport}``, or the reason where a file cannot be read."""
         pair, sizing = self._sized()
-        out = {}
+        out, sections = {}, {}
         for source in sources:
             suffix = "outline.csv" if source == "outline" else source
             names = [f"{self.name}.{role}.{suffix}" for role in ("driver", "driven")]
             if not all(n in files for n in names):
                 continue
             try:
-                polys = [
+                sections[source] = [
                     formats.section_of(n, files[n], internal) for n, internal in zip(names, self._internal, strict=True)
                 ]
             except ExportError as exc:
                 out[source] = str(exc)
-                continue
+
+        def check(polys):
             # every gap, and the extremes refined between the samples (meshing module docstring) —
             # not for a finding, whose overlaps are the result
-            out[source] = validate.mesh_check(
+            return validate.mesh_check(
                 pair, *polys, sizing.module, steps=self.mesh_steps, teeth=int(sizing.teeth[0]), refine=self.must_mesh
             )
-        return out
+
+        # the sources side by side: numpy, GEOS and the k-d tree release the GIL for most of a check
+        with ThreadPoolExecutor(max_workers=min(2, max(1, len(sections)))) as pool:
+            done = dict(zip(sections, pool.map(check, sections.values()), strict=True))
+        return out | done
 
     @cached_property
     def tool(self) -> Cutter:
