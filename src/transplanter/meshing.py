@@ -147,27 +147,25 @@ class MeshReport:
         order = np.argsort(angle, kind="stable")
         return angle[order], values[order]
 
-    @property
-    def backlash_min(self) -> Extreme:
-        """The smallest free play over the uniform and refined samples."""
-        angle, values = self._all(0)
-        k = int(np.argmin(values))
+    def _extreme(self, which: int, pick) -> Extreme:
+        angle, values = self._all(which)
+        k = int(pick(values))
         return Extreme(float(values[k]), math.degrees(angle[k]))
 
     @property
+    def backlash_min(self) -> Extreme:
+        """The smallest free play over the uniform and refined samples."""
+        return self._extreme(0, np.argmin)
+
+    @property
     def backlash_max(self) -> Extreme:
-        angle, values = self._all(0)
-        k = int(np.argmax(values))
-        return Extreme(float(values[k]), math.degrees(angle[k]))
+        """The largest free play over the uniform and refined samples."""
+        return self._extreme(0, np.argmax)
 
     @property
     def clearance_min(self) -> Extreme | None:
         """The smallest mid-play clearance over the uniform and refined samples (None: not measured)."""
-        if self.clearance is None:
-            return None
-        angle, values = self._all(1)
-        k = int(np.argmin(values))
-        return Extreme(float(values[k]), math.degrees(angle[k]))
+        return None if self.clearance is None else self._extreme(1, np.argmin)
 
     @property
     def max_penetration(self) -> float:
