@@ -159,7 +159,8 @@ def test_a_pair_that_does_not_mesh_fails_its_part(four_lobe_ring_pair, tmp_path)
     record, files = finding.build(tmp_path)
     assert record["results"]["shop_files"].startswith("withheld")
     assert record["results"]["meshing"]["outline"]["problems"][0].startswith("the teeth interfere at the pitch point")
-    assert record["results"]["interference"]["problems"][0].startswith("fillet interference")
+    assert record["results"]["interference"]["screen_findings"][0].startswith("fillet interference")
+    assert record["results"]["interference"]["verdict"].startswith("confirmed by the meshing proof")
     assert not any(f.endswith((".dxf", ".stl")) for f in files) and "ring_planet.meshing.png" in files
 
 

@@ -373,7 +373,8 @@ class ToothedPairStudy(StudyDefaults):
             "min_trochoid_margin_rad": rounded(float(np.nanmin(lim.trochoid)), 5),
             "min_contact_ratio": rounded(lim.min_contact_ratio, 3),
             "radial_assembly": lim.radial_assembly,
-            "problems": lim.problems(self._names),
+            # the closed-form screen's warnings: each gets the meshing proof's verdict (build)
+            "screen_findings": lim.problems(self._names),
             "assembly_note": "radial or axial"
             if lim.radial_assembly
             else "axial only: pushed in radially the planet trims the ring's teeth",
@@ -555,7 +556,7 @@ class ToothedPairStudy(StudyDefaults):
                 )
         meshing, plot_files, problems = self.meshing_results(reports)
         results["meshing"] = meshing
-        if results.get("interference", {}).get("problems"):
+        if results.get("interference", {}).get("screen_findings"):
             results["interference"]["verdict"] = _screen_verdict(meshing, problems)
         files.update(plot_files)
         if problems and not results.get("shop_files"):
