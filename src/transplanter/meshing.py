@@ -35,16 +35,17 @@ mid-plane section of the STL — are compared:
 driver angle: smooth while the same vertex–edge pairs bound them, with kinks and jumps where
 the bounding pair changes — the free play of the seed-004 pair falls linearly by 85 µm over
 1° while a planet tip slides down a ring flank, then jumps back when the tip leaves the
-ring's tip corner. A sample grid steps over such a dip's floor. So every local extreme of the
-samples is refined by bisection of the intervals beside it, new samples computed exactly,
-until each such interval is narrower than ``REFINE_RAD`` or the values at its ends differ by
-less than ``REFINE_MM``: a jump is located to 1e-6 rad of driver turn and its floor taken from
-the side where the function is continuous, a smooth extreme to 0.25 µm. An extreme's figure
-is the extreme over the uniform and the refined samples; the report states how many samples
-were added and the angle where each extreme lies. What the refinement still assumes: a dip
-shows in at least one uniform sample (the seed-004 dips span 0.6–1.0° of driver turn against
-the default 2° grid: each dip is seen by some of its eight copies over a turn, not every one);
-``tests/test_meshing.py`` holds the refined extremes to a 10× denser judge.
+ring's tip corner. A sample grid steps over such a dip's floor — and, dips being 0.6–1° wide,
+over whole dips (the default 2° grid saw two of the eight on that pair). So first every close
+pass of a tooth tip is found on a 0.1° scan of the tips alone (:func:`_approaches`) and measured
+exactly; then every local extreme of the samples is refined by bisection of the intervals
+beside it, until each such interval is narrower than ``REFINE_RAD`` or the values at its ends
+differ by less than ``REFINE_MM``: a jump is located to 1e-5 rad of driver turn and its floor
+taken from the side where the function is continuous, a smooth extreme to 0.5 µm. An extreme's
+figure is the extreme over the uniform and the refined samples, with the angle where it lies.
+What this still assumes (it is not a certified bound): a dip is made by a tip passing the
+other gear and lasts longer than the scan step, or shows in a uniform sample;
+``tests/test_meshing.py`` holds the refined extremes to a 200× denser judge.
 
 Placement follows the ``pitch.pair`` conventions: the driver turns clockwise about the
 origin, the driven centre is at (a, 0) — (-a, 0) for a driven ring, which encloses the
