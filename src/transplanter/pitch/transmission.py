@@ -66,39 +66,115 @@ _ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Load)
 _ALLOWED += (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
 
 
+#: the longest expression taken, characters (a 2000-term Fourier series with 6-digit
+#: coefficients is ~60 000)
+MAX_EXPRESSION = 200_000
+#: the deepest nesting of parentheses and calls taken (sums and products of many terms are flat)
+MAX_NESTING = 100
+
+_OPERATORS = {
+    ast.Add: np.add,
+    ast.Sub: np.subtract,
+    ast.Mult: np.multiply,
+    ast.Div: np.divide,
+    ast.Pow: np.power,
+}
+
+
 def _compile(expr: str):
-    """The expression as a function of φ (numpy arrays), or SpecError naming what is not allowed."""
+    """The expression as a function of φ (numpy arrays), or SpecError naming what is not allowed.
+
+    Evaluated by walking its checked syntax tree with numpy, never by Python's ``eval``: numbers
+    are float64 (a power of integer constants overflows to inf at once instead of growing without
+    end), every function takes exactly one argument, and chains of ``+ - * /`` of any length are
+    evaluated flat (a long Fourier series needs no deep recursion); the length and the nesting
+    are bounded (``MAX_EXPRESSION``, ``MAX_NESTING``)."""
     if not isinstance(expr, str) or not expr.strip():
         raise SpecError(f"the transmission function must be an expression in phi, got {expr!r}")
+    if len(expr) > MAX_EXPRESSION:
+        raise SpecError.out_of_range("the transmission function's length", len(expr), f"<= {MAX_EXPRESSION} characters")
     try:
         tree = ast.parse(expr.strip(), mode="eval")
     except SyntaxError as exc:
         raise SpecError(f"the transmission function {expr!r} is not an expression: {exc.msg}") from exc
+    except (RecursionError, MemoryError) as exc:
+        raise SpecError(f"the transmission function is nested too deeply (limit {MAX_NESTING} levels)") from exc
+    short = expr if len(expr) <= 80 else expr[:77] + "..."
     for node in ast.walk(tree):
         if isinstance(node, ast.Name):
             if node.id != "phi" and node.id not in _FUNCTIONS and node.id not in _CONSTANTS:
                 raise SpecError(
-                    f"the transmission function {expr!r} uses {node.id!r}: only phi, pi, e and "
+                    f"the transmission function {short!r} uses {node.id!r}: only phi, pi, e and "
                     f"{', '.join(_FUNCTIONS)} are allowed"
                 )
         elif isinstance(node, ast.Call):
             if not isinstance(node.func, ast.Name) or node.func.id not in _FUNCTIONS or node.keywords:
                 allowed = ", ".join(_FUNCTIONS)
-                raise SpecError(f"the transmission function {expr!r} calls something other than {allowed}")
+                raise SpecError(f"the transmission function {short!r} calls something other than {allowed}")
+            if len(node.args) != 1 or isinstance(node.args[0], ast.Starred):
+                raise SpecError(
+                    f"the transmission function {short!r} calls {node.func.id} with {len(node.args)} arguments: "
+                    "each function takes exactly one"
+                )
         elif isinstance(node, ast.Constant):
             if not isinstance(node.value, int | float) or isinstance(node.value, bool):
-                raise SpecError(f"the transmission function {expr!r} holds {node.value!r}: only numbers are allowed")
+                raise SpecError(f"the transmission function {short!r} holds {node.value!r}: only numbers are allowed")
         elif not isinstance(node, _ALLOWED):
             what = type(node).__name__
-            raise SpecError(f"the transmission function {expr!r} uses {what}: only arithmetic is allowed")
-    code = compile(tree, "<transmission>", "eval")
+            raise SpecError(f"the transmission function {short!r} uses {what}: only arithmetic is allowed")
+    _depth(tree.body, short)
 
     def psi(phi: np.ndarray) -> np.ndarray:
         with np.errstate(all="ignore"):
-            out = eval(code, {"__builtins__": {}}, {"phi": phi, **_FUNCTIONS, **_CONSTANTS})  # noqa: S307 - checked AST
+            out = _evaluate(tree.body, phi)
         return np.broadcast_to(np.asarray(out, dtype=float), np.shape(phi))
 
     return psi
+
+
+def _chain(node) -> list:
+    """The operands and operators of a left-leaning chain of binary operations of one precedence
+    (``a + b - c + ...`` or ``a * b / c ...``), first operand first, without recursion."""
+    group = (ast.Add, ast.Sub) if isinstance(node.op, ast.Add | ast.Sub) else (ast.Mult, ast.Div)
+    out = []
+    while isinstance(node, ast.BinOp) and isinstance(node.op, group):
+        out.append((node.op, node.right))
+        node = node.left
+    out.append((None, node))
+    return out[::-1]
+
+
+def _depth(node, expr: str) -> None:
+    """SpecError where the nesting (chains counted once) is deeper than MAX_NESTING."""
+    stack = [(node, 1)]
+    while stack:
+        node, level = stack.pop()
+        if level > MAX_NESTING:
+            raise SpecError(f"the transmission function {expr!r} is nested deeper than {MAX_NESTING} levels")
+        if isinstance(node, ast.BinOp) and not isinstance(node.op, ast.Pow):
+            stack.extend((operand, level + 1) for _, operand in _chain(node))
+        else:
+            stack.extend((child, level + 1) for child in ast.iter_child_nodes(node))
+
+
+def _evaluate(node, phi: np.ndarray):
+    """The value of a checked expression node at ``phi`` (float64 numpy throughout)."""
+    if isinstance(node, ast.Constant):
+        return np.float64(node.value)
+    if isinstance(node, ast.Name):
+        return phi if node.id == "phi" else np.float64(_CONSTANTS[node.id])
+    if isinstance(node, ast.UnaryOp):
+        value = _evaluate(node.operand, phi)
+        return -value if isinstance(node.op, ast.USub) else +value
+    if isinstance(node, ast.Call):
+        return _FUNCTIONS[node.func.id](_evaluate(node.args[0], phi))
+    if isinstance(node.op, ast.Pow):
+        return np.power(_evaluate(node.left, phi), _evaluate(node.right, phi))
+    (_, first), *rest = _chain(node)
+    value = _evaluate(first, phi)
+    for op, operand in rest:
+        value = _OPERATORS[type(op)](value, _evaluate(operand, phi))
+    return value
 
 
 def ratio_from_expression(expr: str) -> Periodic:
