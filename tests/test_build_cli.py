@@ -457,3 +457,26 @@ def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys):
     (parts / "plates.py").write_text("from _missing import SIDE\n")
     with pytest.raises(PartScriptError, match=r"plates.py:1: ModuleNotFoundError: No module named '_missing'"):
         load_family(parts / "plates.py")
+
+
+@pytest.mark.parametrize("jobs", ["1", "2"])
+def test_two_scripts_of_one_family_are_refused_whatever_the_jobs(tmp_path, capsys, jobs):
+    """Regression (issue 31): with --jobs 1 the second script's export silently replaced the first's."""
+    script = "from transplanter.families import Family\n\ndef family():\n    return Family('same', 'test', ())\n"
+    (tmp_path / "a.py").write_text(script)
+    (tmp_path / "b.py").write_text(script)
+    out = tmp_path / "out"
+    code = cli.main(["build", str(tmp_path / "a.py"), str(tmp_path / "b.py"), "-o", str(out), "--jobs", jobs])
+    assert code == 2
+    assert "two part scripts define the same family name" in capsys.readouterr().err
+    assert not (out / "same").exists()
+
+
+@pytest.mark.parametrize(
+    "option, value", [("--maxiter", "-3"), ("--popsize", "0"), ("--workers", "0"), ("--seed", "-1")]
+)
+def test_optimiser_options_out_of_range_are_named_one_by_one(parts_dir, capsys, option, value):
+    with pytest.raises(SystemExit) as exc:
+        cli.main(["optimise", str(parts_dir / "_seed004.py"), option, value])
+    assert exc.value.code == 2
+    assert f"{option} = {value} is out of range" in capsys.readouterr().err

@@ -109,3 +109,12 @@ def test_the_cli_refuses_bad_input_with_exit_2_and_writes_nothing(tmp_path, caps
     assert cli.main(["pair", "phi - 0.08*sin(2*phi)", "--teeth", "25", "--module", "1.5", "-o", str(tmp_path)]) == 2
     assert "multiple of the driver's 2 lobes" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_string_does_not_select_the_rack_cutter(tmp_path):
+    """Regression (issue 31): ``rack='no'`` is truthy and cut the pair with a hob."""
+    from transplanter.errors import SpecError
+    from transplanter.families import gear_pair
+
+    with pytest.raises(SpecError, match="rack"):
+        gear_pair("ellipse:0.1:2", tmp_path, teeth=30, module=2.0, rack="no")

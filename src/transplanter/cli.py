@@ -308,8 +308,11 @@ def main(argv: list[str] | None = None) -> int:
                 parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
             return _cmd_build(args)
         if args.command in ("optimise", "optimize"):
-            if args.maxiter < 1 or args.popsize < 1 or args.workers < 1:
-                parser.error("--maxiter, --popsize and --workers must be >= 1")
+            for option in ("maxiter", "popsize", "workers"):
+                if getattr(args, option) < 1:
+                    parser.error(f"--{option} = {getattr(args, option)} is out of range: must be >= 1")
+            if args.seed < 0:
+                parser.error(f"--seed = {args.seed} is out of range: must be >= 0")
             return _cmd_optimise(args)
         if args.command == "check":
             return _cmd_check(args)

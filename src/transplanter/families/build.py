@@ -300,14 +300,14 @@ def build_families(
     is done, by this process, in the family's own part order — so the files are byte-identical
     to a serial build. ``progress`` gets ``family/part`` as each part finishes.
     """
+    names = [f.name for f in families]
+    if len(set(names)) != len(names):  # serial or not: the last would replace the first's export
+        raise PartScriptError(f"two part scripts define the same family name: {sorted(names)}")
     if jobs <= 1:
         return [build_family(f, out_dir, progress) for f in families]
     from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
 
-    names = [f.name for f in families]
-    if len(set(names)) != len(names):
-        raise PartScriptError(f"two part scripts define the same family name: {sorted(names)}")
     _FAMILIES.clear()
     _FAMILIES.update((f.name, f) for f in families)
     tasks = [(f, p) for f in families for p in f.parts]

@@ -119,6 +119,8 @@ def pair_family(
     check_number("width", width, 0.0, 1000.0, low_open=True, unit="mm")
     if not isinstance(internal, bool):
         raise SpecError.out_of_range("internal", internal, "True or False")
+    if not isinstance(rack, bool):  # a truthy string ('no') must not select the rack cutter
+        raise SpecError.out_of_range("rack", rack, "True or False")
     mesh = "internal" if internal else "external"
     found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring)
     pair, sizing = size_pair(found.pair, teeth, module, centre_distance)
