@@ -118,3 +118,21 @@ def test_a_string_does_not_select_the_rack_cutter(tmp_path):
 
     with pytest.raises(SpecError, match="rack"):
         gear_pair("ellipse:0.1:2", tmp_path, teeth=30, module=2.0, rack="no")
+
+
+def test_a_ratio_csv_without_a_header_keeps_its_first_sample_and_radians_are_named(tmp_path):
+    """Regressions (issue 31): the first row was always skipped as a header, losing a sample;
+    angles in radians were refused only by an unrelated cutter message."""
+    from transplanter.errors import SpecError
+    from transplanter.pitch.transmission import ratio_from_csv
+
+    deg = np.arange(0, 360, 10.0)
+    ratio = 1 + 0.1 * np.cos(np.radians(deg))
+    ratio[0] = 1.2  # a first sample that differs: losing it would show
+    rows = "".join(f"{d:g},{r:.12f}\n" for d, r in zip(deg, ratio, strict=True))
+    bare = ratio_from_csv(rows.encode())
+    headed = ratio_from_csv(("phi_deg,ratio\n" + rows).encode())
+    assert abs(float(bare(0.0)) - 1.2) < 1e-12 and abs(float(headed(0.0)) - 1.2) < 1e-12
+    rad = "".join(f"{math.radians(d):.6f},{r:.12f}\n" for d, r in zip(deg, ratio, strict=True))
+    with pytest.raises(SpecError, match="look like radians"):
+        ratio_from_csv(rad.encode())

@@ -212,11 +212,22 @@ def ratio_from_expression(expr: str) -> Periodic:
     return FourierSeries(mean, harmonics * b[harmonics - 1], -harmonics * a[harmonics - 1], lobes=lobes)
 
 
+#: the widest stretch of a driver turn the ratio samples may leave out (deg, the wrap included):
+#: samples that span less are not a turn — typically angles given in radians
+CSV_LARGEST_GAP_DEG = 90.0
+
+
 def ratio_from_csv(data: bytes) -> Periodic:
-    """ω2/ω1 from a CSV of samples over one driver turn: a header row, then driver angle (deg,
-    increasing within [0, 360)) and ratio per row; a periodic cubic spline through them."""
+    """ω2/ω1 from a CSV of samples over one driver turn: an optional header row, then driver
+    angle (deg, increasing within [0, 360), no stretch of more than ``CSV_LARGEST_GAP_DEG``
+    left out) and ratio per row; a periodic cubic spline through them."""
+    first = data.split(b"\n", 1)[0]
+    try:  # a first row of two numbers is a sample, not a header (it was dropped)
+        header = len([float(x) for x in first.split(b",")]) != 2
+    except ValueError:
+        header = True
     try:
-        table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1, ndmin=2)
+        table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1 if header else 0, ndmin=2)
     except ValueError as exc:
         raise SpecError(f"the ratio CSV cannot be read as numbers (header, then 'phi_deg, ratio' rows): {exc}") from exc
     if table.shape[1] != 2 or len(table) < 8:
@@ -227,6 +238,15 @@ def ratio_from_csv(data: bytes) -> Periodic:
     deg, ratio = table[:, 0], table[:, 1]
     if not (np.all(np.isfinite(table)) and np.all(np.diff(deg) > 0) and deg[0] >= 0 and deg[-1] < 360):
         raise SpecError("the ratio CSV's driver angles must be finite and increase within [0, 360) deg")
+    gap = float(max(np.max(np.diff(deg), initial=0.0), 360.0 - deg[-1] + deg[0]))
+    if gap > CSV_LARGEST_GAP_DEG:
+        radians = (
+            f" — they look like radians (the largest is {deg[-1]:.4g}); give degrees" if deg[-1] <= 2 * math.pi else ""
+        )
+        raise SpecError(
+            f"the ratio CSV's driver angles leave {gap:.4g} deg of the turn without a sample (limit "
+            f"{CSV_LARGEST_GAP_DEG:g} deg){radians}"
+        )
     if np.any(ratio <= 0):
         i = int(np.argmax(ratio <= 0))
         raise SpecError.out_of_range(f"ratio at {deg[i]:g} deg", float(ratio[i]), "> 0")
