@@ -349,8 +349,7 @@ def mesh_check(
     mesh.all()
     arc = mesh.te * mesh.r2
     offset = float(arc.mean())
-    refined = _refine(mesh, mesh.bl, mesh.clear) if refine else None
-    clear = mesh.clear
+    refined = _refine(mesh) if refine else None
     return MeshReport(
         mesh.phi1,
         mesh.pen,
@@ -362,14 +361,14 @@ def mesh_check(
         mesh.side,
         mesh.te,
         offset,
-        clearance=clear,
+        clearance=mesh.clear,
         refined=refined[:3] if refined else None,
-        clearance_points=refined[3] if refined else mesh.clear_points[int(np.argmin(clear))],
+        clearance_points=refined[3] if refined else mesh.clear_points[int(np.argmin(mesh.clear))],
     )
 
 
-def _extremes(phi: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """Indices (into the sorted cyclic samples) of the local minima of ``f`` that the samples
+def _extremes(f: np.ndarray) -> np.ndarray:
+    """Indices (into the sorted cyclic samples ``f``) of the local minima of ``f`` that the samples
     around them could hide a lower value beside: every local minimum whose drop to a
     neighbour reaches below the lowest sample (a jump, or the global minimum itself)."""
     left, right = np.roll(f, 1), np.roll(f, -1)
@@ -435,38 +434,37 @@ def _approaches(mesh: _Mesh) -> np.ndarray:
     return found[gap > step]
 
 
-def _refine(mesh: _Mesh, backlash: np.ndarray, clearance: np.ndarray):
-    """Bisect the intervals beside every extreme of the free play (both ways) and the clearance
-    (its minimum) until narrower than REFINE_RAD or resolved to REFINE_MM; returns the added
-    samples (angle, backlash, clearance) and the nearest points at the smallest clearance."""
-    phi = mesh.phi1.copy()
-    bl, cl, pts = backlash.copy(), clearance.copy(), mesh.clear_points.copy()
-    n0 = len(phi)
-    seen = _approaches(mesh)
-    if len(seen):  # every close pass of a tip is sampled before the bisection starts
-        more = _Mesh.like(mesh, seen)
+def _refine(mesh: _Mesh):
+    """Sample every close tip pass (:func:`_approaches`), then bisect the intervals beside every
+    extreme of the free play (both ways) and the clearance (its minimum) until narrower than
+    REFINE_RAD or resolved to REFINE_MM; returns the added samples (angle, backlash, clearance)
+    and the nearest points at the smallest clearance."""
+    columns = [(mesh.phi1, mesh.bl, mesh.clear, mesh.clear_points)]  # uniform, then each batch added
+
+    def sample(phi):
+        more = _Mesh.like(mesh, phi)
         more.all()
-        phi, bl, cl = (np.concatenate((a, b)) for a, b in ((phi, more.phi1), (bl, more.bl), (cl, more.clear)))
-        pts = np.concatenate((pts, more.clear_points))
+        columns.append((more.phi1, more.bl, more.clear, more.clear_points))
+
+    seen = _approaches(mesh)
+    if len(seen):
+        sample(seen)
     for _ in range(REFINE_ROUNDS):
+        phi, bl, cl = (np.concatenate([c[k] for c in columns]) for k in range(3))
         order = np.argsort(phi)
         p, b, c = phi[order], bl[order], cl[order]
         gap = np.diff(p, append=p[0] + 2 * math.pi)  # interval after each sample
         new = []
         for f in (b, -b, c):
-            for i in _extremes(p, f):
+            for i in _extremes(f):
                 for j in ((i - 1) % len(p), i):  # the intervals before and after sample i
                     if gap[j] > REFINE_RAD and abs(f[(j + 1) % len(p)] - f[j]) > REFINE_MM:
                         new.append(p[j] + 0.5 * gap[j])
         if not new:
             break
-        new = np.unique(np.mod(new, 2 * math.pi))
-        more = _Mesh.like(mesh, new)
-        more.all()
-        phi = np.concatenate((phi, more.phi1))
-        bl = np.concatenate((bl, more.bl))
-        cl = np.concatenate((cl, more.clear))
-        pts = np.concatenate((pts, more.clear_points))
+        sample(np.unique(np.mod(new, 2 * math.pi)))
+    phi, bl, cl, pts = (np.concatenate([c[k] for c in columns]) for k in range(4))
+    n0 = len(mesh.phi1)
     return phi[n0:], bl[n0:], cl[n0:], pts[int(np.argmin(cl))]
 
 
