@@ -44,13 +44,13 @@ import math
 
 import numpy as np
 
+from transplanter.cutter_choice import coarsest_cut
 from transplanter.interference import screen_module
 from transplanter.objectives import Site, seed004_objectives
 from transplanter.optimise import Problem
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
 from transplanter.solids import key_for
-from transplanter.teeth import coarsest_cut
 
 # -- as published ------------------------------------------------------------------------
 
@@ -143,7 +143,7 @@ def cuttability(train: DifferentialTrain, module: float) -> tuple[tuple[str, flo
 def evaluate(x, cut: bool = True):
     """(train, cut, objectives, gear rules) of a design vector. The module is the coarsest the
     fouling screen passes; with ``cut`` it is then confirmed by cutting the teeth
-    (``teeth.coarsest_cut``) — the search does so only for designs that nearly meet the rest."""
+    (``cutter_choice.coarsest_cut``) — the search does so only for designs that nearly meet the rest."""
     train = design_train(x)
     found = screen_module(train.pair, max_module=6.0, min_module=2.0)
     if cut and found is not None:

@@ -34,9 +34,10 @@ from _seed004 import (
 )
 
 from transplanter.cutter import ShaperCutter
-from transplanter.families import Family, Making, PitchPairStudy, PlanetaryStudy, ToothedPairStudy
+from transplanter.cutter_choice import coarsest_cut
+from transplanter.families import Family, Making, PitchPairStudy, PlanetaryStudy, ToothedPairStudy, TrainProof
+from transplanter.proportions import CUTTER_ADDENDUM, RING_RIM
 from transplanter.solids import Features
-from transplanter.teeth import coarsest_cut
 
 # -- the published reading ---------------------------------------------------------------
 RING_TEETH = 80  # 20 on the planet, the paper's module
@@ -52,7 +53,7 @@ PLANET_SHAFT = 5.0  # mm: the planet's pitch curve passes 3.84 mm from its axis,
 # -- the optimised train -----------------------------------------------------------------
 WIDTH = 12.0  # mm, face width of ring, planets and carrier
 MODULE_RANGE = (2.0, 6.0)  # mm, searched for the coarsest module that cuts and meshes
-RING_BOLTS = 8  # M3 clearance holes in the ring's rim, half a pitch off the +x timing notch
+RING_BOLTS = 8  # M3 clearance holes in the middle of the ring's rim, half a pitch off the +x timing notch
 BOLT_HOLE = 3.4  # mm
 CARRIER_BORE = 20.0  # mm, carrier shaft with a DIN 6885 key
 CARRIER_MARGIN = 12.0  # mm of plate beyond the planet-shaft holes
@@ -64,82 +65,95 @@ SWEEP = (0.6, 0.8, 1.1, 1.2)  # ratio-variation factors for the trade-off plot
 PLANET_ADDENDUM = 0.94  # modules
 
 
-def family() -> Family:
-    published = train()
+def ring_bolt_holes(pair, module: float) -> tuple:
+    """M3 clearance holes on the middle of the ring's rim, half a pitch off the +x timing notch."""
+    rim = pair.driver.max_radius().value + (CUTTER_ADDENDUM + RING_RIM / 2) * module
+    bolts = [2 * math.pi * (k + 0.5) / RING_BOLTS for k in range(RING_BOLTS)]
+    return tuple((rim * math.cos(t), rim * math.sin(t), BOLT_HOLE) for t in bolts)
+
+
+def published_parts(published) -> tuple:
+    """The paper's pair, its fine-module teeth as a finding (no shop files), and its train."""
+    return (
+        PitchPairStudy("ring_planet_pitch", published.pair, teeth=RING_TEETH),
+        ToothedPairStudy(
+            "ring_planet_teeth",
+            published.pair,
+            ShaperCutter(FINE_CUTTER_TEETH, tip_fillet=0.1),
+            teeth=FINE_RING_TEETH,
+            making=(
+                Making(width=FACE_WIDTH, wire=WIRE),
+                Making(width=FACE_WIDTH, features=Features(bore=PLANET_SHAFT, keyway=False), wire=WIRE),
+            ),
+            # a finding (see above): no shop files; standard teeth are kept (trimming the
+            # ring's tips to the closed-form limit, 0.35 m, loses the contact)
+            must_mesh=False,
+            trim_ring_tips=False,
+            train=TrainProof(published),
+            rejected=(
+                ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, ShaperCutter(12, tip_fillet=0.1)),
+                ("m = 0.71 mm (320/80 teeth, 8-tooth cutter)", 320, ShaperCutter(8, tip_fillet=0.1)),
+            ),
+        ),
+        PlanetaryStudy(
+            "transplanting_train",
+            published,
+            seedling_box=SEEDLING_BOX,
+            plant_spacing=PLANT_SPACING,
+            planting_depth=PLANTING_DEPTH,
+            gearbox_radius=published.pair.driver.max_radius().value + 10.0,
+            reference=PUBLISHED,
+            variants=tuple((label, train(*args)) for label, args in VARIANTS),
+        ),
+    )
+
+
+def made_parts(published) -> tuple:
+    """The optimised train at the coarsest module that cuts and meshes: ring, planets, carrier."""
     optimised = design_train(OPTIMUM)
     pair = optimised.pair
     cut = coarsest_cut(pair, max_module=MODULE_RANGE[1], min_module=MODULE_RANGE[0])
-    rim = pair.driver.max_radius().value + (1.25 + 1.5) * cut.module  # mid-rim of teeth.generate's 3 m rim
-    bolts = [2 * math.pi * (k + 0.5) / RING_BOLTS for k in range(RING_BOLTS)]
-    ring_holes = tuple((rim * math.cos(t), rim * math.sin(t), BOLT_HOLE) for t in bolts)
     planet_shafts = Features.bolt_circle(3, pair.centre_distance, PLANET_BORE, bore=CARRIER_BORE)
+    return (
+        PitchPairStudy("optimised_pitch", pair, teeth=cut.teeth[0]),  # ν, curvature, convexity
+        ToothedPairStudy(
+            "optimised_ring_planet",
+            pair,
+            ShaperCutter(cut.cutter_teeth),
+            teeth=cut.teeth[0],
+            making=(
+                Making(width=WIDTH, features=Features(holes=ring_bolt_holes(pair, cut.module))),
+                Making(width=WIDTH, features=Features(bore=PLANET_BORE)),
+            ),
+            addendum=(cut.ring_addendum, min(cut.pinion_addendum, PLANET_ADDENDUM)),
+            trim_ring_tips=False,
+            train=TrainProof(optimised, SITE),
+        ),
+        PlanetaryStudy(
+            "optimised_train",
+            optimised,
+            seedling_box=SEEDLING_BOX,
+            plant_spacing=PLANT_SPACING,
+            planting_depth=PLANTING_DEPTH,
+            reference=PUBLISHED + (("module", PUBLISHED_MODULE, "mm"),),
+            site=SITE,
+            module=cut.module,
+            compare=(("published reading", published, 0.0),),
+            must_meet=True,
+            carrier=(
+                pair.centre_distance + PLANET_BORE / 2 + CARRIER_MARGIN,
+                Making(width=WIDTH, features=planet_shafts),
+            ),
+            tradeoff=tuple((f"ratio variation x{f:g}", design_train(scaled(OPTIMUM, f))) for f in SWEEP),
+        ),
+    )
+
+
+def family() -> Family:
+    published = train()
     return Family(
         name="planetary_seed004",
         description="Seed 004 differential internal non-circular planetary train: the published reading as a "
         "finding, and the optimised train whose ring, planets and carrier are made",
-        parts=(
-            PitchPairStudy("ring_planet_pitch", published.pair, teeth=RING_TEETH),
-            ToothedPairStudy(
-                "ring_planet_teeth",
-                published.pair,
-                ShaperCutter(FINE_CUTTER_TEETH, tip_fillet=0.1),
-                teeth=FINE_RING_TEETH,
-                making=(
-                    Making(width=FACE_WIDTH, wire=WIRE),
-                    Making(width=FACE_WIDTH, features=Features(bore=PLANET_SHAFT, keyway=False), wire=WIRE),
-                ),
-                # a finding (see above): no shop files; standard teeth are kept (trimming the
-                # ring's tips to the closed-form limit, 0.35 m, loses the contact)
-                must_mesh=False,
-                trim_ring_tips=False,
-                train=published,
-                rejected=(
-                    ("paper module (80/20 teeth, 12-tooth cutter)", RING_TEETH, ShaperCutter(12, tip_fillet=0.1)),
-                    ("m = 0.71 mm (320/80 teeth, 8-tooth cutter)", 320, ShaperCutter(8, tip_fillet=0.1)),
-                ),
-            ),
-            PlanetaryStudy(
-                "transplanting_train",
-                published,
-                seedling_box=SEEDLING_BOX,
-                plant_spacing=PLANT_SPACING,
-                planting_depth=PLANTING_DEPTH,
-                gearbox_radius=published.pair.driver.max_radius().value + 10.0,
-                reference=PUBLISHED,
-                variants=tuple((label, train(*args)) for label, args in VARIANTS),
-            ),
-            PitchPairStudy("optimised_pitch", pair, teeth=cut.teeth[0]),  # ν, curvature, convexity
-            ToothedPairStudy(
-                "optimised_ring_planet",
-                pair,
-                ShaperCutter(cut.cutter_teeth),
-                teeth=cut.teeth[0],
-                making=(
-                    Making(width=WIDTH, features=Features(holes=ring_holes)),
-                    Making(width=WIDTH, features=Features(bore=PLANET_BORE)),
-                ),
-                addendum=(cut.ring_addendum, min(cut.pinion_addendum, PLANET_ADDENDUM)),
-                trim_ring_tips=False,
-                train=optimised,
-                site=SITE,
-            ),
-            PlanetaryStudy(
-                "optimised_train",
-                optimised,
-                seedling_box=SEEDLING_BOX,
-                plant_spacing=PLANT_SPACING,
-                planting_depth=PLANTING_DEPTH,
-                gearbox_radius=1.0,  # unused: derived from the ring and the module (objective x)
-                reference=PUBLISHED + (("module", PUBLISHED_MODULE, "mm"),),
-                site=SITE,
-                module=cut.module,
-                compare=(("published reading", published, 0.0),),
-                must_meet=True,
-                carrier=(
-                    pair.centre_distance + PLANET_BORE / 2 + CARRIER_MARGIN,
-                    Making(width=WIDTH, features=planet_shafts),
-                ),
-                tradeoff=tuple((f"ratio variation x{f:g}", design_train(scaled(OPTIMUM, f))) for f in SWEEP),
-            ),
-        ),
+        parts=(*published_parts(published), *made_parts(published)),
     )

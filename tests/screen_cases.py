@@ -4,7 +4,7 @@ Each case is an internal ring/planet pair of a seed-004-like train (ratio law ``
 mean of 4, carrier radius 57.7 mm, see ``DifferentialTrain.from_ratio``), a tooth count, a
 shaper cutter and the two addenda. Its *screen verdict* is ``interference.fouling_screen(...)``
 without problems (contact ratio aside: the full check does not judge it); its *full verdict* is
-the meshing check of the cut teeth (``teeth.generate_pair`` then ``validate.mesh_check`` over a
+the meshing check of the cut teeth (``pair_gate.generate_pair`` then ``validate.mesh_check`` over a
 whole ring turn): no overlap above ``SHOP_OVERLAP_MM2`` at any step, pitch point or fouling, and
 a tooth pair in contact at every step.
 
@@ -26,8 +26,8 @@ from transplanter import validate
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError
 from transplanter.interference import fouling_screen
+from transplanter.pair_gate import generate_pair
 from transplanter.planetary import ArmGeometry, DifferentialTrain
-from transplanter.teeth import generate_pair
 from transplanter.tolerances import SHOP_OVERLAP_MM2
 
 RECORD = Path(__file__).parent / "data" / "screen_record.json"

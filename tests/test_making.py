@@ -9,13 +9,14 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter import dxf, solids, stl
+from transplanter import arcs, dxf, machining, solids, stl
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError
 from transplanter.families import Making
 from transplanter.families.making import manufacture
+from transplanter.pair_gate import generate_pair
 from transplanter.pitch import GearPair, PitchCurve
-from transplanter.teeth import generate, generate_pair
+from transplanter.teeth import generate
 from transplanter.testing import admesh_available, assert_admesh_clean
 
 
@@ -29,7 +30,7 @@ def test_arc_fit_beats_segments_like_the_anchor():
     # ANCHORS: an ellipse-like pitch curve (r ~ 30 mm) needs 472 segments at 1 µm
     t = np.linspace(0, 2 * np.pi, 20000, endpoint=False)
     ell = np.stack([34 * np.cos(t), 26 * np.sin(t)], axis=1)
-    verts = dxf.fit_arcs(ell, tolerance=1e-3)
+    verts = arcs.fit_arcs(ell, tolerance=1e-3)
     assert len(verts) < 472 // 3
     assert dxf.contour_deviation(ell, dxf.arcs_to_points(verts)) < 1.05e-3
     # tangent continuity: each arc ends in the direction the next one starts
@@ -53,7 +54,7 @@ def test_gear_dxf_reads_back_within_1um(ellipse_gears, version):
         assert min(dxf.contour_deviation(src, b) for b in back) < 1e-3
     for b in back:
         assert shapely.LinearRing(b).is_simple  # no self-intersections
-    verts = dxf.fit_arcs(np.asarray(section.exterior.coords), 0.5e-3)
+    verts = arcs.fit_arcs(np.asarray(section.exterior.coords), 0.5e-3)
     spacing = np.linalg.norm(np.roll(verts[:, :2], -1, axis=0) - verts[:, :2], axis=1)
     assert spacing.min() >= 1e-3  # no segment shorter than 1 µm
     assert "START_HOLES" in text and "ANNOTATION" in text
@@ -119,7 +120,7 @@ def test_wire_violation_names_the_tooth(ellipse_gears):
 
 def test_wire_path_offsets_outwards_and_into_holes():
     sec = shapely.Polygon([(0, 0), (10, 0), (10, 10), (0, 10)], [[(4, 4), (6, 4), (6, 6), (4, 6)]])
-    path = dxf.wire_path(sec, 0.2)
+    path = machining.wire_path(sec, 0.2)
     assert path.area > sec.area
     assert path.interiors[0].length < sec.interiors[0].length  # the hole shrinks
 

@@ -14,10 +14,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from transplanter import contact, meshing
+from transplanter import contact, mesh_engine, meshing
 from transplanter.backlash import tolerance_budget
 from transplanter.cutter import ShaperCutter
-from transplanter.teeth import generate_pair
+from transplanter.pair_gate import generate_pair
 from transplanter.tolerances import CONTACT_TOL_MM
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "parts"))
@@ -35,7 +35,7 @@ def seed004_full_tips():
 def _dense(pair, sizing, ring, planet, centre_deg, half_deg=0.6, n=241):
     """The judge: ``n`` driver positions within ``half_deg`` of an angle, exact at each."""
     phi = np.mod(math.radians(centre_deg) + np.radians(np.linspace(-half_deg, half_deg, n)), 2 * math.pi)
-    m = meshing._Mesh(
+    m = mesh_engine.MeshSweep(
         pair, contact.Outline(ring), contact.Outline(planet), sizing.module, phi, math.inf, CONTACT_TOL_MM
     )
     m.all()

@@ -220,8 +220,9 @@ def test_screen_of_a_circular_pair_is_circular_theory_then_the_cut_decides():
     >= 1.1), the cut refuses a 9-tooth planet (undercut), and ``coarsest_cut`` settles on 52/13,
     between the 48/12 and 56/14 that the full meshing check passes in ``screen_cases``."""
     from transplanter.cutter import ShaperCutter
+    from transplanter.cutter_choice import coarsest_cut
     from transplanter.interference import circular_internal, fouling_screen, screen_module
-    from transplanter.teeth import coarsest_cut, generate_pair
+    from transplanter.pair_gate import generate_pair
 
     tr = DifferentialTrain.from_ratio(4, (), 57.7, ArmGeometry(150, 80, -0.7), 0.7)
     s = screen_module(tr.pair)

@@ -28,9 +28,9 @@ from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError
 from transplanter.families import Making, ToothedPairStudy
 from transplanter.interference import circular_internal
+from transplanter.pair_gate import generate_pair
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.solids import Features
-from transplanter.teeth import generate_pair
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 from transplanter.validate import mesh_check
 

@@ -267,7 +267,7 @@ def test_a_rack_cut_non_circular_pair_meshes_with_its_backlash():
     from transplanter import validate
     from transplanter.backlash import backlash_band
     from transplanter.cutter import RackCutter
-    from transplanter.teeth import generate_pair
+    from transplanter.pair_gate import generate_pair
 
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.1, 2), "external", 2).sized(module=2.0)
     driver, driven = generate_pair(pair, RackCutter(2.0), sizing.teeth, backlash=0.1)
@@ -280,7 +280,7 @@ def test_a_rack_cut_non_circular_pair_meshes_with_its_backlash():
 
 def test_a_rack_refuses_rings_and_concave_pitch_curves():
     from transplanter.cutter import RackCutter
-    from transplanter.teeth import generate_pair
+    from transplanter.pair_gate import generate_pair
 
     ring_pair, ring = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.05, 2), "internal", 3).sized(module=2.0)
     with pytest.raises(GeometryError, match="cannot cut a ring gear"):
@@ -339,7 +339,7 @@ def test_the_fast_assembly_and_the_symmetry_give_the_boolean_outline(monkeypatch
     fast = generate(curve, cutter, z, internal=internal, shift=x, phase=phase)
     assert teeth._symmetry(curve, z) == (z if curve.lobes == 1 else curve.lobes)
     assert isinstance(fast.removed[-1], shapely.MultiPolygon)  # the union was not needed
-    monkeypatch.setattr(teeth, "_apart_spaces", lambda *a: None)
+    monkeypatch.setattr(teeth, "apart_spaces", lambda *a: None)
     monkeypatch.setattr(teeth, "_symmetry", lambda curve, teeth: 1)
     general = generate(curve, cutter, z, internal=internal, shift=x, phase=phase)
     assert not isinstance(general.removed[-1], shapely.MultiPolygon) or len(general.removed[-1].geoms) == 1

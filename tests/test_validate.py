@@ -21,9 +21,10 @@ from transplanter.cams import FlatFacedFollower, MotionProgram, OscillatingRolle
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError
 from transplanter.families import FOLLOWER_TOL, ToothedPairStudy, run_script
+from transplanter.pair_gate import generate_pair
 from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
-from transplanter.teeth import generate, generate_pair
+from transplanter.teeth import generate
 from transplanter.validate import follower_check, mesh_check, train_check
 
 

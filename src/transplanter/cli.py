@@ -99,7 +99,7 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     import json
 
     from transplanter.errors import PartScriptError
-    from transplanter.families.build import run_script
+    from transplanter.families.scripts import run_script
     from transplanter.optimise import Problem, optimise
 
     path = Path(args.script)

@@ -44,6 +44,7 @@ import numpy as np
 from scipy import optimize
 
 from transplanter.errors import GeometryError, SpecError, check_int, check_number
+from transplanter.proportions import CUTTER_ADDENDUM, CUTTER_DEDENDUM
 
 __all__ = ["Cutter", "ShaperCutter", "RackCutter", "involute"]
 
@@ -84,8 +85,8 @@ class _Proportions:
     angle (rad); addendum, dedendum and tip fillet in modules; thickening in mm."""
 
     pressure_angle: float = math.radians(20.0)
-    addendum: float = 1.25
-    dedendum: float = 1.35
+    addendum: float = CUTTER_ADDENDUM
+    dedendum: float = CUTTER_DEDENDUM
     tip_fillet: float = 0.2
     thickening: float = 0.0
 

@@ -1,14 +1,8 @@
-"""DXF for wire EDM: closed contours fitted with arcs, millimetres, deterministic bytes (ezdxf).
+"""DXF for wire EDM: closed contours as arcs, millimetres, deterministic bytes (ezdxf).
 
-**Arc fitting.** A closed contour (polyline whose vertices lie on the exact curve) is split at
-corners (turning angle > ``corner_deg``) and each smooth stretch is covered greedily by
-circular arcs that are *tangent-continuous*: every arc starts with the end tangent of the one
-before, and reaches as far as it can while every vertex and every chord midpoint of the
-source stays within ``tolerance`` of it (exponential then binary search). Where no tangent
-arc fits even one step, the chain breaks there and a free three-point arc starts. The result
-is a list of bulge vertices: a DXF LWPOLYLINE (R2000) or POLYLINE (R12) with far fewer entities
-than points, no gaps (each arc ends on the next one's start vertex), no segment shorter than
-``min_segment``.
+The arcs come from :mod:`transplanter.arcs` (tangent-continuous, one-sided fits: bulge vertices);
+this module writes them as a DXF LWPOLYLINE (R2000) or POLYLINE (R12) — far fewer entities than
+points, no gaps (each arc ends on the next one's start vertex) — and reads them back.
 
 **Files.** One DXF per part: ``$INSUNITS`` = 4 (mm; ezdxf defaults to metres — and R12 has no
 units header, so the annotation says mm); layers ``CUT`` (all contours), ``START_HOLES`` (a
@@ -16,22 +10,21 @@ start hole in every inner contour, in the waste: centred in the largest circle i
 hole's exact arcs and ``START_HOLE_MARGIN_MM`` from every cut contour, or where none fits a
 NO START HOLE note instead, :func:`start_hole`), ``ANNOTATION`` (part name, tooth count,
 module, marks, paths such as a finger's tip path); ezdxf's fixed metadata so rebuilding gives identical bytes.
+With a wire offset the contours are the wire-centre path (:func:`machining.wire_path`).
 
 **Read-back.** :func:`read_contours` re-reads the CUT layer and flattens the arcs
-(:func:`read_section` nests them into the part section);
-:func:`contour_deviation` gives the largest distance between source and read-back (both ways).
-
-**Wire.** :func:`wire_path` offsets a part section for the wire centre (outer contours
-outwards, holes inwards); :func:`wire_violations` finds inside corners the wire cannot reach.
+(:func:`read_section` nests them into the part section), :func:`bulge_contours` gives them as
+bulge vertices and :func:`arc_centres` every arc's centre, radius and sweep (where a shop finds a
+hole); :func:`contour_deviation` gives the largest distance between source and read-back (both ways).
 
 Examples
 --------
 >>> import numpy as np
->>> from transplanter.dxf import fit_arcs, arcs_to_points
+>>> from transplanter.arcs import fit_arcs
+>>> from transplanter.dxf import arcs_to_points, contour_deviation
 >>> t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
 >>> ellipse = np.stack([40 * np.cos(t), 25 * np.sin(t)], axis=1)
->>> verts = fit_arcs(ellipse, tolerance=1e-3)
->>> len(verts) < 2000 // 10  # G1 arcs within 1 µm: 107 here against 2000 points
+>>> contour_deviation(ellipse, arcs_to_points(fit_arcs(ellipse, tolerance=1e-3))) < 1.05e-3
 True
 """
 
@@ -48,13 +41,13 @@ import numpy as np
 import shapely
 from ezdxf.math import bulge_to_arc
 
+from transplanter.arcs import bulge_area, section_arcs
 from transplanter.contact import distance_to_ring
 from transplanter.errors import MAX_MAGNITUDE, ExportError, GeometryError, SpecError, check_number
-from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM, MIN_CONTOUR_AREA, WIRE_EDM_TOLERANCE
+from transplanter.machining import wire_path
+from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, MIN_CONTOUR_AREA
 
 __all__ = [
-    "fit_arcs",
-    "inset_ring",
     "arcs_to_points",
     "DxfPart",
     "dxf_bytes",
@@ -62,13 +55,10 @@ __all__ = [
     "START_HOLE_MARGIN_MM",
     "read_contours",
     "assembly_bytes",
-    "section_arcs",
     "bulge_contours",
-    "bulge_area",
     "read_section",
     "contour_deviation",
-    "wire_path",
-    "wire_violations",
+    "arc_centres",
 ]
 
 LAYERS = {"CUT": 7, "START_HOLES": 1, "ANNOTATION": 3}
@@ -76,151 +66,6 @@ LAYERS = {"CUT": 7, "START_HOLES": 1, "ANNOTATION": 3}
 #: a start hole keeps at least this much material (mm) between it and every cut contour, so the
 #: wire's first pass never reaches the part (a wire-EDM start hole is drilled, not cut: ±0.05 mm)
 START_HOLE_MARGIN_MM = 0.1
-
-
-def _arc_dev(p0, t0, p1, pts):
-    """Tangent arc from p0 (unit tangent t0) to p1: bulge and max |distance| of pts from it."""
-    d = p1 - p0
-    cross = t0[0] * d[1] - t0[1] * d[0]
-    dot = t0[0] * d[0] + t0[1] * d[1]
-    theta = 2 * math.atan2(cross, dot)  # included angle, signed (CCW positive)
-    if abs(theta) < 1e-12:  # straight
-        n = np.array([-d[1], d[0]]) / max(np.hypot(*d), 1e-300)
-        return 0.0, float(np.max(np.abs((pts - p0) @ n))) if len(pts) else 0.0, theta
-    chord = math.hypot(*d)
-    radius = chord / (2 * math.sin(theta / 2))  # signed
-    normal = np.array([-t0[1], t0[0]])
-    centre = p0 + radius * normal
-    dev = np.abs(np.hypot(pts[:, 0] - centre[0], pts[:, 1] - centre[1]) - abs(radius)) if len(pts) else np.zeros(1)
-    return math.tan(theta / 4), float(np.max(dev)), theta
-
-
-def _three_point_tangent(p0, pm, p1):
-    """Start tangent of the circle through p0, pm, p1 (unit), or the chord direction if collinear."""
-    a, b = pm - p0, p1 - p0
-    cross = a[0] * b[1] - a[1] * b[0]
-    if abs(cross) < 1e-15 * max(1.0, np.dot(b, b)):
-        return b / np.hypot(*b)
-    # circle centre
-    d = 2 * cross
-    ux = (b[1] * np.dot(a, a) - a[1] * np.dot(b, b)) / d
-    uy = (a[0] * np.dot(b, b) - b[0] * np.dot(a, a)) / d
-    r = np.array([ux, uy])  # centre relative to p0; the tangent is r turned by -90° (CCW) or +90° (CW)
-    t = np.array([r[1], -r[0]]) if cross > 0 else np.array([-r[1], r[0]])
-    return t / np.hypot(*t)
-
-
-def _rotate(v, angle):
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([c * v[0] - s * v[1], s * v[0] + c * v[1]])
-
-
-def _fit_chain(pts: np.ndarray, tol: float, t_start=None):
-    """Tangent-continuous arcs over the open chain ``pts``; returns [(point, bulge), ...] without the end."""
-    out = []
-    n = len(pts)
-    i = 0
-    t = t_start
-    mids = 0.5 * (pts[1:] + pts[:-1])
-
-    def check(i, j, tangent):
-        inner = np.concatenate([pts[i + 1 : j], mids[i:j]])
-        return _arc_dev(pts[i], tangent, pts[j], inner)
-
-    while i < n - 1:
-        tangent = t if t is not None else _three_point_tangent(pts[i], pts[min(i + 1, n - 1)], pts[min(i + 2, n - 1)])
-        bulge, dev, theta = check(i, i + 1, tangent)
-        if dev > tol and t is not None:  # the inherited tangent does not fit: break G1 here
-            tangent = _three_point_tangent(pts[i], pts[min(i + 1, n - 1)], pts[min(i + 2, n - 1)])
-            bulge, dev, theta = check(i, i + 1, tangent)
-        if dev > tol:  # even the free tangent fails over one step: a straight segment is exact
-            tangent = (pts[i + 1] - pts[i]) / np.hypot(*(pts[i + 1] - pts[i]))
-            bulge, dev, theta = check(i, i + 1, tangent)
-        good, good_fit = i + 1, (bulge, theta)
-        step = 1
-        while good + step < n:
-            b2, dev2, th2 = check(i, good + step, tangent)
-            if dev2 > tol or abs(th2) > math.pi:
-                break
-            good, good_fit = good + step, (b2, th2)
-            step *= 2
-        lo, hi = good, min(good + step, n - 1)
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            b2, dev2, th2 = check(i, mid, tangent)
-            if dev2 <= tol and abs(th2) <= math.pi:
-                lo, good_fit = mid, (b2, th2)
-            else:
-                hi = mid
-        good = lo
-        out.append((pts[i], good_fit[0]))
-        t = _rotate(tangent, good_fit[1])
-        i = good
-    return out
-
-
-def fit_arcs(points, tolerance: float = 0.5e-3, corner_deg: float = 20.0, min_segment: float = 1e-3):
-    """Bulge vertices ``(n, 3)`` [x, y, bulge] of arcs within ``tolerance`` of the closed ``points``.
-
-    Consecutive points closer than ``min_segment`` (mm) are merged first.
-    """
-    pts = np.asarray(points, dtype=float)
-    if pts.ndim != 2 or pts.shape[1] != 2 or len(pts) < 3 or not np.all(np.isfinite(pts)):
-        raise SpecError("fit_arcs needs a closed contour of at least 3 finite (x, y) points")
-    if np.allclose(pts[0], pts[-1]):
-        pts = pts[:-1]
-    # merge points closer than min_segment, keeping the one where the contour turns more (a
-    # corner dropped in favour of its neighbour would be cut off by up to min_segment)
-    d_in = pts - np.roll(pts, 1, axis=0)
-    d_out = np.roll(pts, -1, axis=0) - pts
-    bend = np.abs(np.angle(np.exp(1j * (np.arctan2(d_out[:, 1], d_out[:, 0]) - np.arctan2(d_in[:, 1], d_in[:, 0])))))
-    keep = [0]
-    for k in range(1, len(pts)):
-        if np.hypot(*(pts[k] - pts[keep[-1]])) >= min_segment:
-            keep.append(k)
-        elif keep[-1] != 0 and bend[k] > bend[keep[-1]] and np.hypot(*(pts[k] - pts[keep[-2]])) >= min_segment:
-            keep[-1] = k
-    pts = pts[keep]
-    if np.hypot(*(pts[-1] - pts[0])) < min_segment:
-        pts = pts[:-1]
-    seg = np.roll(pts, -1, axis=0) - pts
-    ang_in = np.arctan2(np.roll(seg, 1, axis=0)[:, 1], np.roll(seg, 1, axis=0)[:, 0])
-    ang_out = np.arctan2(seg[:, 1], seg[:, 0])
-    turn = np.abs(np.angle(np.exp(1j * (ang_out - ang_in))))
-    corners = np.flatnonzero(turn > math.radians(corner_deg))
-    start = int(corners[0]) if corners.size else 0
-    pts = np.roll(pts, -start, axis=0)
-    corners = np.sort((corners - start) % len(pts)) if corners.size else np.array([0])
-    bounds = list(corners) + [len(pts)]
-    loop = np.vstack([pts, pts[:1]])
-    verts = []
-    for a, b in zip(bounds[:-1], bounds[1:], strict=True):
-        if b <= a:
-            continue
-        verts.extend(_fit_chain(loop[a : b + 1], tolerance))
-    return np.array([[p[0], p[1], bulge] for p, bulge in verts])
-
-
-def inset_ring(ring, distance: float) -> np.ndarray:
-    """The closed ``ring`` (n, 2) moved ``distance`` mm to its left (into the material of a
-    shapely-oriented polygon: exterior counter-clockwise, holes clockwise), vertex by vertex
-    on the bisector of its two edges (the mitred offset; capped at 4× where an edge turns by
-    more than ~150°). Returns the closed ring (first point repeated)."""
-    pts = np.asarray(ring, dtype=float)
-    if np.allclose(pts[0], pts[-1]):
-        pts = pts[:-1]
-    keep = np.linalg.norm(pts - np.roll(pts, 1, axis=0), axis=1) > 1e-9
-    pts = pts[keep]
-    d_in = pts - np.roll(pts, 1, axis=0)
-    d_out = np.roll(pts, -1, axis=0) - pts
-    n_in = np.stack([-d_in[:, 1], d_in[:, 0]], axis=1) / np.linalg.norm(d_in, axis=1)[:, None]
-    n_out = np.stack([-d_out[:, 1], d_out[:, 0]], axis=1) / np.linalg.norm(d_out, axis=1)[:, None]
-    b = n_in + n_out
-    norm = np.linalg.norm(b, axis=1)
-    b = np.where(norm[:, None] > 1e-12, b / np.maximum(norm, 1e-300)[:, None], n_in)
-    cos_half = np.maximum(np.einsum("ij,ij->i", b, n_in), 0.25)
-    out = pts + (distance / cos_half)[:, None] * b
-    return np.vstack([out, out[:1]])
 
 
 def arcs_to_points(verts: np.ndarray, max_sagitta: float = 1e-5) -> np.ndarray:
@@ -292,12 +137,6 @@ def start_hole(verts: np.ndarray, diameter: float) -> tuple[float, float] | str:
     )
 
 
-def _rings(section: shapely.Polygon):
-    yield np.asarray(section.exterior.coords), False
-    for r in section.interiors:
-        yield np.asarray(r.coords), True
-
-
 def _new_doc(version: str, setup: bool = False):
     """An empty R2000/R12 document in mm with our layers (fixed metadata must be switched on);
     ``setup`` adds ezdxf's standard styles (needed for dimensions)."""
@@ -346,16 +185,6 @@ def add_contour(msp, verts: np.ndarray, version: str, layer: str) -> None:
 def _cross(msp, x: float, y: float, size: float, layer: str) -> None:
     msp.add_line((x - size, y), (x + size, y), dxfattribs={"layer": layer})
     msp.add_line((x, y - size), (x, y + size), dxfattribs={"layer": layer})
-
-
-def section_arcs(section: shapely.Polygon, tolerance: float = DXF_ARC_TOLERANCE_MM, inset: float = DXF_INSET_MM):
-    """The contours of ``section`` as one-sided arc fits: ``[(verts (n, 3), is_hole), ...]``.
-
-    Every ring is first moved ``inset`` into the material (:func:`inset_ring`), then fitted
-    within ``tolerance``; with ``inset > tolerance`` the arcs never add material to the part.
-    """
-    oriented = shapely.geometry.polygon.orient(section, 1.0)
-    return [(fit_arcs(inset_ring(ring, inset), tolerance), inner) for ring, inner in _rings(oriented)]
 
 
 def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_TOLERANCE_MM, arcs=None) -> bytes:
@@ -438,20 +267,6 @@ def _parsed_cut_polylines(data: bytes) -> tuple[np.ndarray, ...]:
     return tuple(out)
 
 
-def bulge_area(verts: np.ndarray) -> float:
-    """Signed area (mm², counter-clockwise positive) enclosed by closed bulge vertices ``(n, 3)``:
-    the polygon of the vertices plus each arc's circular segment ``R²/2 (θ - sin θ)``, signed
-    with its bulge (``θ = 4 atan(bulge)``) — exact for lines and arcs."""
-    v = np.asarray(verts, dtype=float)
-    x, y, b = v[:, 0], v[:, 1], v[:, 2]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    area = 0.5 * float(np.sum(x * yn - xn * y))
-    theta = 4.0 * np.arctan(b[b != 0])
-    chord = np.hypot(xn - x, yn - y)[b != 0]
-    r = chord / (2.0 * np.abs(np.sin(theta / 2)))
-    return area + float(np.sum(np.sign(theta) * r**2 / 2 * (np.abs(theta) - np.sin(np.abs(theta)))))
-
-
 def bulge_contours(data: bytes) -> list[tuple[np.ndarray, bool]]:
     """The CUT contours as read, bulge vertices ``(n, 3)`` each, the largest (by :func:`bulge_area`)
     first and the others marked as holes: ``[(verts, is_hole)]``, the form ``section_arcs`` gives."""
@@ -460,6 +275,24 @@ def bulge_contours(data: bytes) -> list[tuple[np.ndarray, bool]]:
         raise ExportError("the DXF has no closed contour on its CUT layer")
     order = sorted(range(len(polys)), key=lambda k: -abs(bulge_area(polys[k])))
     return [(polys[k], i > 0) for i, k in enumerate(order)]
+
+
+def arc_centres(data: bytes) -> list[np.ndarray]:
+    """Every arc of the CUT contours as read, per contour (largest first, as
+    :func:`bulge_contours`): ``(n, 4)`` rows of centre x, y, radius and sweep (rad), by
+    ``ezdxf.math.bulge_to_arc`` — where a shop's CAM finds a hole's or a nose's centre."""
+    out = []
+    for verts, _ in bulge_contours(data):
+        rows = []
+        for k in range(len(verts)):
+            x0, y0, b = verts[k]
+            if b == 0:
+                continue
+            x1, y1, _ = verts[(k + 1) % len(verts)]
+            centre, _, _, r = bulge_to_arc((x0, y0), (x1, y1), b)
+            rows.append((centre.x, centre.y, r, abs(4 * math.atan(b))))
+        out.append(np.array(rows, dtype=float).reshape(-1, 4))
+    return out
 
 
 def read_contours(data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
@@ -554,36 +387,3 @@ def contour_deviation(source: np.ndarray, readback: np.ndarray) -> float:
     am = np.concatenate([a, 0.5 * (a + np.roll(a, -1, axis=0))])
     bm = np.concatenate([b, 0.5 * (b + np.roll(b, -1, axis=0))])
     return max(_one_way(am, b), _one_way(bm, a))
-
-
-def wire_path(section: shapely.Polygon, offset: float) -> shapely.Polygon:
-    """Wire-centre path: the section grown by ``offset`` (wire radius + spark gap, mm)."""
-    if not (math.isfinite(offset) and offset > 0):
-        raise SpecError.out_of_range("wire offset", offset, "> 0 mm")
-    return section.buffer(offset, quad_segs=64, join_style="round")
-
-
-def _thickness(piece) -> float:
-    """The smaller side of a region's minimum rotated rectangle, mm."""
-    c = np.asarray(piece.minimum_rotated_rectangle.exterior.coords)
-    return float(np.min(np.linalg.norm(np.diff(c[:3], axis=0), axis=1)))
-
-
-def wire_violations(
-    section: shapely.Polygon, offset: float, min_area: float = 1e-6, min_thickness: float = WIRE_EDM_TOLERANCE
-):
-    """Material the wire cannot cut away at inside corners tighter than ``offset`` (mm).
-
-    Returns the regions (shapely geometry) a wire of radius ``offset`` leaves behind: the
-    morphological closing of the waste; empty when every inside corner admits the wire. A
-    region thinner than ``min_thickness`` (the smaller side of its minimum rotated rectangle) is
-    within the shop's tolerance and not returned — e.g. the 0.6 µm sliver a wire leaves where
-    two envelope pieces of a 17-tooth planet's root meet at a kink.
-    """
-    # 16 segments per quarter circle: the round joins are within 0.12 % of the offset (0.2 µm for
-    # a 0.145 mm wire), far below min_thickness, and the closing costs a quarter of 64's
-    grown = section.buffer(offset, quad_segs=16, join_style="round")
-    reachable = grown.buffer(-offset, quad_segs=16, join_style="round")
-    left = shapely.difference(reachable, section)
-    parts = [g for g in getattr(left, "geoms", [left]) if g.area > min_area and _thickness(g) > min_thickness]
-    return shapely.MultiPolygon(parts) if parts else shapely.MultiPolygon()

@@ -36,7 +36,7 @@ from functools import cached_property
 import numpy as np
 import shapely
 
-from transplanter import dxf, solids, step, stl, threemf
+from transplanter import arcs, dxf, solids, step, stl, threemf
 from transplanter.errors import ExportError, GeometryError
 from transplanter.export import csv_array
 from transplanter.precision import significant
@@ -57,6 +57,7 @@ __all__ = [
     "section_of",
     "read_shop_file",
     "split_unreadable",
+    "placement",
     "ONE_SIDED_MM",
 ]
 
@@ -76,8 +77,8 @@ class MadePart:
 
     @cached_property
     def arcs(self) -> list[tuple[np.ndarray, bool]]:
-        """The section's contours as the DXF's one-sided arcs (``dxf.section_arcs``)."""
-        return dxf.section_arcs(self.section)
+        """The section's contours as the DXF's one-sided arcs (``arcs.section_arcs``)."""
+        return arcs.section_arcs(self.section)
 
     @property
     def volume(self) -> float:
@@ -128,6 +129,23 @@ class Dxf:
 
     def read(self, data: bytes) -> shapely.Polygon:
         return dxf.read_section(data)
+
+    def contours(self, data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
+        """The CUT contours as points, each arc sampled to ``flatten`` mm (``dxf.read_contours``)."""
+        return dxf.read_contours(data, flatten)
+
+    def arcs(self, data: bytes) -> list[tuple[np.ndarray, bool]]:
+        """The CUT contours as bulge vertices ``(n, 3)``, largest first, the others holes."""
+        return dxf.bulge_contours(data)
+
+    def arc_centres(self, data: bytes) -> list[np.ndarray]:
+        """Every arc of the CUT contours, per contour: ``(n, 4)`` centre x, y, radius, sweep (rad)."""
+        return dxf.arc_centres(data)
+
+    def assembly(self, name: str, parts: list[tuple[str, bytes, tuple[float, float, float]]], notes=()) -> bytes:
+        """An assembly drawing of parts read from their DXF bytes, each placed at ``(x, y, angle_rad)``
+        (``dxf.assembly_bytes``): contours, centre crosses, the axis distances dimensioned, notes."""
+        return dxf.assembly_bytes(name, parts, tuple(notes))
 
     def verify(self, part: MadePart, data: bytes) -> dict:
         """Re-read contours simple and closed, within ``DXF_READBACK_MM`` of the section and never
@@ -306,6 +324,9 @@ class ThreeMf:
 
 
 DXF, STL, STEP, CSV, THREEMF = Dxf(), Stl(), Step(), Csv(), ThreeMf()
+
+#: 4×4 placement of a part in an assembly: turned by ``angle`` (rad) about z, then moved (mm)
+placement = threemf.placement
 
 
 def section_of(name: str, data: bytes, internal: bool = False) -> shapely.Polygon:

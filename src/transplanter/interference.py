@@ -406,7 +406,7 @@ def fouling_screen(
     fouling is judged by the fillet and pinion-tip limits on the windowed radii, and the cut
     teeth's own checks (secondary cutting, undercut) by ``teeth.generate``. ``ring_addendum`` None trims the
     ring's tips to the fillet/cutter limit less 0.02 m (at most 1), as :func:`screen_module` and
-    ``teeth.generate_pair(trim_ring_tips=True)`` do. Its ``problems()`` are empty when the cut
+    ``pair_gate.generate_pair(trim_ring_tips=True)`` do. Its ``problems()`` are empty when the cut
     teeth are expected to mesh; concave stretches (the pair locally external) carry NaN."""
     if pair.ring is None:
         raise GeometryError("fouling_screen is for internal pairs; this pair is external")
@@ -418,7 +418,7 @@ def fouling_screen(
 
 def trimmed_addendum(limit: float) -> float:
     """Ring-tip trimming: the addendum (modules) ``TRIM_MARGIN`` under ``limit``, rounded down to
-    0.01 m (``teeth.generate_pair(trim_ring_tips=True)`` and the screen both cut to it)."""
+    0.01 m (``pair_gate.generate_pair(trim_ring_tips=True)`` and the screen both cut to it)."""
     return math.floor((limit - TRIM_MARGIN) * 100) / 100
 
 
@@ -451,7 +451,7 @@ def screen_module(
     From the coarsest tooth count down, for each cutter in ``cutters`` (tooth counts) and each
     pinion addendum in ``pinion_addenda`` (full, then stub): the ring's tips are trimmed to the
     fillet/cutter limit (at most a full addendum, at least ``min_ring_addendum`` — the least
-    ``teeth.generate_pair`` trims to), then the limits of :func:`internal_limits` must hold with each curve's
+    ``pair_gate.generate_pair`` trims to), then the limits of :func:`internal_limits` must hold with each curve's
     radius of curvature taken as the *smallest* within ``window`` pitches of the contact — so a
     curvature that changes fast, which fouls a few pitches away from the contact, counts — and
     the cutter must roll inside the ring's sharpest convex corner. The pinion's pitch curve must

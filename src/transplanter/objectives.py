@@ -41,6 +41,7 @@ import numpy as np
 
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.errors import check_number, finite_positive
+from transplanter.proportions import RING_DEPTH
 
 __all__ = [
     "Site",
@@ -65,9 +66,8 @@ HOLE_WIDTH_MAX_MM = 30.0
 GEARBOX_CLEARANCE_MM = 20.0
 MIN_MODULE_MM = 2.5
 HOUSING_WALL_MM = 5.0
-#: ring dedendum and rim below its pitch curve, modules (``ShaperCutter`` addendum 1.25 m and
-#: the 3 m rim ``teeth.generate`` leaves under the deepest root)
-RING_DEPTH_MODULES = 1.25 + 3.0
+#: ring dedendum and rim below its pitch curve, modules (``proportions.RING_DEPTH``)
+RING_DEPTH_MODULES = RING_DEPTH
 
 
 @dataclass(frozen=True)

@@ -1,6 +1,6 @@
 """STEP (ISO 10303-21, AP214) of prismatic parts from exact lines and arcs, with OCP (OpenCASCADE).
 
-A part's section is the DXF's: its contours as one-sided arc fits (``dxf.section_arcs``), each
+A part's section is the DXF's: its contours as one-sided arc fits (``arcs.section_arcs``), each
 a closed run of bulge vertices. Every straight span becomes a line edge and every bulged span a
 circular arc through its end points and its mid point (``GC_MakeArcOfCircle``), neighbouring
 edges sharing one vertex; the outer wire (counter-clockwise) and the hole wires (clockwise) make a planar face, which
@@ -39,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from transplanter.dxf import bulge_area
+from transplanter.arcs import bulge_area
 from transplanter.errors import ExportError, GeometryError
 from transplanter.tolerances import FLAT_ARC_RADIUS_MM
 
@@ -52,7 +52,7 @@ ORIGINATING_SYSTEM = "transplanter (OpenCASCADE STEP processor)"
 
 def arcs_area(contours: list[tuple[np.ndarray, bool]]) -> float:
     """Exact area (mm²) of a section given as closed bulge contours ``[(verts (n, 3), is_hole)]``
-    (``dxf.bulge_area`` of each, the holes subtracted)."""
+    (``arcs.bulge_area`` of each, the holes subtracted)."""
     return sum(-abs(bulge_area(v)) if hole else abs(bulge_area(v)) for v, hole in contours)
 
 
@@ -167,7 +167,7 @@ def prism(contours: list[tuple[np.ndarray, bool]], width: float):
     # on the plane z = 0, normal +z (the outline counter-clockwise): given, not fitted to the points
     face = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(), _wire(occ, outer[0]), True)
     for verts, hole in contours:
-        if hole:  # clockwise (``dxf.section_arcs`` orients the section): material on its left
+        if hole:  # clockwise (``arcs.section_arcs`` orients the section): material on its left
             face.Add(_wire(occ, verts))
     if not face.IsDone():
         raise GeometryError("the STEP section does not make a planar face")

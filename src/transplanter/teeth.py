@@ -33,7 +33,7 @@ outside it again, closed by a short cap (``CAP`` m) on the free side, and all ar
 once as one valid MultiPolygon — no union. Where an envelope folds (undercut), a cap would
 reach the blank or two spaces touch (a nearly pointed tooth), the general path closes each
 space 3 m out, lets shapely's ``make_valid(method="structure")`` take the union of a fold's
-loops and unions the spaces (:func:`_apart_spaces`, :func:`_space_polygons`; the tests hold the
+loops and unions the spaces (:mod:`transplanter.tooth_spaces`; the tests hold the
 two to the same outline). A gear that turns onto itself — a circle's every tooth, an n-lobed
 curve's every lobe (``gcd(n, z)`` sectors) — has its envelope, tip curve and checks computed on
 one sector and turned onto the others. The brute-force Boolean subtraction of cutter positions
@@ -50,38 +50,29 @@ it), teeth that fall apart.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from transplanter.backlash import resolve_backlash
 from transplanter.cutter import Cutter, ShaperCutter
-from transplanter.errors import GeometryError, SpecError, TransplanterError, check_int, check_number
-from transplanter.interference import ScreenResult, pair_limits, screen_module, trimmed_addendum
+from transplanter.errors import GeometryError, SpecError, check_int, check_number
 from transplanter.pitch.arcframe import ArcFrame
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import Constant
-from transplanter.tolerances import CHORD_TOLERANCE, SPIKE_LENGTH
+from transplanter.proportions import RING_RIM
+from transplanter.tolerances import CHORD_TOLERANCE
+from transplanter.tooth_spaces import apart_spaces, lands_between, space_polygons, tip_lands
 
 __all__ = [
     "ArcFrame",
     "ToothSpace",
     "ToothedGear",
     "generate",
-    "generate_pair",
-    "per_gear",
     "secondary_cut",
 ]
-
-#: the cap closing a tooth space on the free side, modules beyond its last samples outside the blank
-CAP = 0.25
-
-#: Ring tips are not trimmed below this addendum (modules): shorter teeth lose their contact
-#: ratio, so the pair needs another remedy (cutter, tooth-count difference)
-MIN_TRIMMED_ADDENDUM = 0.3
 
 
 @dataclass(frozen=True)
@@ -169,7 +160,7 @@ class ToothedGear:
         return int(np.argmin(np.linalg.norm(pp - np.asarray(point, dtype=float), axis=1)))
 
 
-def _require_cutter(cutter) -> None:
+def require_cutter(cutter) -> None:
     """SpecError unless ``cutter`` is a cutter with a module."""
     if not isinstance(cutter, Cutter):
         raise SpecError(f"cutter must be a cutter (ShaperCutter, RackCutter), got {type(cutter).__name__}")
@@ -260,149 +251,6 @@ def _offset(frame: ArcFrame, distance: float, tolerance: float, turns: int = 1) 
     return _turned((p + distance * nrm)[None], turns).reshape(-1, 2)
 
 
-def _despike(points: np.ndarray, length: float) -> np.ndarray:
-    """Drop vertices where the path turns back (> 90°) on a segment shorter than ``length``.
-
-    Where two pieces of the envelope meet (flank and fillet) the sampled path can overshoot by
-    a micrometre and come back: a zero-area spike that is a valid polygon but turns into a
-    self-crossing once the DXF fits arcs through it.
-    """
-    pts = np.asarray(points, dtype=float)
-    return pts[_despiked(pts, length)]
-
-
-def _despiked(points: np.ndarray, length: float) -> np.ndarray:
-    """Indices of the vertices :func:`_despike` keeps."""
-    index = np.arange(len(points))
-    while len(index) > 3:
-        back = np.flatnonzero(_spikes(points[index], length)[1:-1]) + 1
-        if back.size == 0:
-            break
-        index = np.delete(index, back[::2])  # every other one, then look again
-    return index
-
-
-def _spikes(points: np.ndarray, length: float) -> np.ndarray:
-    """Mask of the vertices of paths ``points`` (..., n, 2) where the path turns back (> 90°)
-    on a segment shorter than ``length`` (the ends are never spikes)."""
-    u = points[..., 1:-1, :] - points[..., :-2, :]
-    v = points[..., 2:, :] - points[..., 1:-1, :]
-    uu, vv, uv = (np.einsum("...i,...i", a, b) for a, b in ((u, u), (v, v), (u, v)))
-    inner = (np.minimum(uu, vv) < length * length) & (uv < 0)
-    pad = np.zeros(points.shape[:-2] + (1,), dtype=bool)
-    return np.concatenate([pad, inner, pad], axis=-1)
-
-
-def _space_polygons(y, nrm, side, module):
-    """Every tooth space as a polygon: its envelope closed 3 m out on the free side (along the
-    normals ``nrm`` at the space centres), made valid where the envelope folds (undercut) — they
-    overlap outside the blank, so they are unioned."""
-    ext = 3.0 * module
-    polys = []
-    for j in range(y.shape[0]):
-        out = side * nrm[j] * ext
-        ring = np.concatenate([[y[j, 0] + out], _despike(y[j], SPIKE_LENGTH), [y[j, -1] + out]])
-        poly = shapely.Polygon(ring)
-        if not poly.is_valid:
-            poly = shapely.make_valid(poly, method="structure", keep_collapsed=False)
-        polys.append(poly)
-    return polys
-
-
-@dataclass(frozen=True)
-class _Apart:
-    """Tooth spaces that neither fold nor touch, as :func:`_apart_spaces` found them."""
-
-    #: the spaces, one valid MultiPolygon
-    spaces: shapely.MultiPolygon
-    #: (spaces, samples) envelope samples that are vertices of the spaces' outlines
-    kept: np.ndarray
-    #: (spaces, 2) where each envelope enters and leaves the blank: arc length on the pitch curve
-    crossings: np.ndarray
-
-
-def _apart_spaces(y, in_blank, s_centres, nrm, frame, side, module, tip, offset, turns=1) -> _Apart | None:
-    """The tooth spaces as one valid MultiPolygon without a union, or None.
-
-    Each envelope is kept from the last sample before it enters the blank to the first after it
-    leaves, and closed by a cap ``CAP`` m out on the free side (along the normals ``nrm`` at the
-    space centres ``s_centres``). When every cap stays off the
-    blank, no space folds (no undercut loop) and no two touch (a tooth between each pair), the
-    spaces are already a valid MultiPolygon — the usual case, and a GEOS union of all spaces
-    saved. Otherwise None: :func:`_space_polygons` and a union do it, as they always can.
-    The crossings of the tip curve are found on one of the ``turns`` symmetric sectors.
-    """
-    if not isinstance(tip, shapely.Polygon) or tip.interiors or not in_blank.any(axis=1).all():
-        return None
-    n = y.shape[1]
-    first = np.argmax(in_blank, axis=1) - 1
-    last = n - np.argmax(in_blank[:, ::-1], axis=1)
-    if first.min() < 0 or last.max() > n - 1:
-        return None  # an envelope that starts or ends in the blank: the long closure is needed
-    out = (side * CAP * module) * nrm
-    rows = np.arange(y.shape[0])
-    sample = np.arange(n)
-    kept = (sample >= first[:, None]) & (sample <= last[:, None])
-    spiky = _spikes(y, SPIKE_LENGTH) & kept
-    spiky[rows, first] = spiky[rows, last] = False
-    for j in np.flatnonzero(spiky.any(axis=1)):  # rare: drop the spikes of these spaces
-        index = np.arange(first[j], last[j] + 1)
-        kept[j] = False
-        kept[j, index[_despiked(y[j, index], SPIKE_LENGTH)]] = True
-    caps = np.stack([y[rows, last], y[rows, last] + out, y[rows, first] + out, y[rows, first]], axis=1)
-    lines = shapely.linestrings(caps)
-    if not (shapely.contains(tip, lines) if side < 0 else ~shapely.intersects(tip, lines)).all():
-        return None
-    # each ring: the kept samples in order, then the cap's two outer corners
-    coords = np.concatenate([y, caps[:, 1:3]], axis=1)[np.concatenate([kept, np.ones((len(y), 2), bool)], axis=1)]
-    owner = np.repeat(rows, kept.sum(axis=1) + 2)
-    spaces = shapely.MultiPolygon(list(shapely.polygons(shapely.linearrings(coords, indices=owner))))
-    if not spaces.is_valid:
-        return None
-    k = rows[: len(rows) // turns]
-    outside = np.stack([y[k, first[k]], y[k, last[k]]], axis=1)
-    inside = np.stack([y[k, first[k] + 1], y[k, last[k] - 1]], axis=1)
-    crossings = _crossing(frame, outside, inside, s_centres[k, None], offset)
-    sectors = frame.length / turns * np.arange(turns)
-    return _Apart(spaces, kept, (crossings[None] + sectors[:, None, None]).reshape(-1, 2))
-
-
-def _foot(frame, pts, s0, tol: float = 1e-12):
-    """Arc length of the pitch-curve points nearest ``pts`` (..., 2), by Newton from ``s0`` (a
-    few steps from within a tooth's length), and the points' heights along the outward normal
-    there (mm)."""
-    s = np.asarray(s0, dtype=float)
-    for _ in range(20):
-        p, t, nrm, kap = frame.at(s)
-        r = pts - p
-        step = np.einsum("...i,...i", r, t) / (1.0 + kap * np.einsum("...i,...i", r, nrm))
-        s = s + step
-        if np.max(np.abs(step)) < tol * frame.length:
-            break
-    p, _, nrm, _ = frame.at(s, curvature=False)
-    return s, np.einsum("...i,...i", pts - p, nrm)
-
-
-def _crossing(frame, outside, inside, s0, offset, iterations: int = 2):
-    """Where the segments from ``outside`` to ``inside`` the blank (each (..., 2)) cross the tip
-    curve (the pitch curve offset by ``offset`` along N): its arc length on the pitch curve,
-    by regula falsi on the height above the tip curve (round-off in a few steps: the segments
-    are one envelope sample long, where the height is nearly linear)."""
-    a, b = outside, inside
-    both, h = _foot(frame, np.stack([a, b]), np.stack([s0, s0]))
-    (sa, sb), (ha, hb) = both, h - offset
-    s = sa
-    for _ in range(iterations):
-        w = ha / np.where(ha == hb, 1.0, ha - hb)
-        c = a + w[..., None] * (b - a)
-        s, hc = _foot(frame, c, sa + w * (sb - sa))
-        hc = hc - offset
-        same = np.sign(hc) == np.sign(ha)
-        a, sa, ha = np.where(same[..., None], c, a), np.where(same, s, sa), np.where(same, hc, ha)
-        b, sb, hb = np.where(same[..., None], b, c), np.where(same, sb, s), np.where(same, hb, hc)
-    return s
-
-
 def generate(
     curve: PitchCurve,
     cutter: Cutter,
@@ -435,7 +283,8 @@ def generate(
         Gear addendum coefficient: the tip curve is ``(addendum + shift) m`` from the pitch
         curve on the free side.
     rim : float or None
-        Ring gears: radial rim thickness beyond the deepest tooth space, mm (default 3 m).
+        Ring gears: radial rim thickness beyond the deepest tooth space, mm (default
+        ``proportions.RING_RIM`` = 3 m).
     allow_undercut : bool
         If False, any undercut of the involute flank raises GeometryError.
     min_land : float
@@ -446,7 +295,7 @@ def generate(
         Tooth-space centres at ``(j + phase) π m`` of arc length: 0 puts a space, 0.5 a tooth
         at the curve's start (a mating gear takes the other).
     """
-    _require_cutter(cutter)
+    require_cutter(cutter)
     if not isinstance(curve, PitchCurve):
         raise SpecError(f"curve must be a PitchCurve, got {type(curve).__name__}")
     m = cutter.module
@@ -486,14 +335,14 @@ def generate(
     in_blank = np.tile(inside_tip if side > 0 else ~inside_tip, (turns, 1))
     y = _turned(y, turns)
     centres, _, normals, _ = frame.at(s_centres, curvature=False)
-    apart = _apart_spaces(y, in_blank, s_centres, normals, frame, side, m, tip, tip_offset, turns)
+    apart = apart_spaces(y, in_blank, s_centres, normals, frame, side, m, tip, tip_offset, turns)
     if apart is not None:
         cut, doubtful = apart.spaces, in_blank & ~apart.kept  # the kept samples are on the outline
     else:
-        cut, doubtful = shapely.union_all(_space_polygons(y, normals, side, m)), in_blank
+        cut, doubtful = shapely.union_all(space_polygons(y, normals, side, m)), in_blank
     if internal:
         depth = float(np.max(np.linalg.norm(y, axis=-1)))
-        r_rim = depth + (3.0 * m if rim is None else float(rim))
+        r_rim = depth + (RING_RIM * m if rim is None else float(rim))
         n_rim = max(720, int(math.ceil(2 * math.pi / math.acos(1 - tolerance / r_rim))))
         ang = 2 * math.pi * np.arange(n_rim) / n_rim
         rim_ring = np.stack([r_rim * np.cos(ang), r_rim * np.sin(ang)], axis=1)
@@ -532,9 +381,9 @@ def generate(
                 "fewer teeth or a larger ring"
             )
     if apart is not None:
-        lands = _lands_between(frame, apart.crossings, tip_offset)
+        lands = lands_between(frame, apart.crossings, tip_offset)
     else:
-        lands = _tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
+        lands = tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
     thin = np.flatnonzero(lands < min_land * m)
     if thin.size:
         t = int(thin[0])
@@ -640,150 +489,6 @@ def _drop_specks(body, module: float):
     return keep[0] if len(keep) == 1 else shapely.MultiPolygon(keep)
 
 
-def per_gear(name: str, value) -> tuple[float, float]:
-    """``value`` (one number for both gears, or a (driver, driven) pair) as a checked pair."""
-    pair = value if isinstance(value, tuple | list) else (value, value)
-    if len(pair) != 2:
-        raise SpecError.out_of_range(name, value, "a number or a (driver, driven) pair of numbers")
-    return (check_number(f"{name} (driver)", pair[0], -2.0, 2.0), check_number(f"{name} (driven)", pair[1], -2.0, 2.0))
-
-
-def _cutter_remedy(pair, cutter: ShaperCutter, add, sh) -> str:
-    """The shaper cutters (tooth counts) that would clear the closed-form limits with these
-    addenda and still roll on both pitch curves — the 'cutter choice' remedy, in words."""
-    r, p = (0, 1) if pair.ring == "driver" else (1, 0)
-    frames = [ArcFrame.from_curve(c) for c in (pair.driver, pair.driven)]
-    good = []
-    for z in range(8, 61):
-        try:
-            other = replace(cutter, teeth=z)
-            for k, frame in enumerate(frames):
-                other.check_fits(frame, internal=k == r, shift=sh[k])
-            lim = pair_limits(
-                pair, other, ring_addendum=add[r], pinion_addendum=add[p], ring_shift=sh[r], pinion_shift=sh[p]
-            )
-        except TransplanterError:
-            continue
-        if not lim.problems():
-            good.append(z)
-    if not good:
-        return "; no shaper cutter of 8 to 60 teeth clears it at these addenda"
-    return (
-        f"; cutters that clear it at these addenda: {good[0]} to {good[-1]} teeth"
-        if good[-1] - good[0] + 1 == len(good)
-        else f"; cutters that clear it at these addenda: {', '.join(map(str, good))} teeth"
-    )
-
-
-def generate_pair(
-    pair,
-    cutter: Cutter,
-    teeth: tuple[int, int],
-    *,
-    backlash: float | None = None,
-    addendum: float | tuple[float, float] = 1.0,
-    shift: float | tuple[float, float] = 0.0,
-    trim_ring_tips: bool = False,
-    check_interference: bool = True,
-    **kwargs,
-) -> tuple[ToothedGear, ToothedGear]:
-    """Both gears of a sized ``pitch.GearPair``: the driver with a space, the driven with a tooth at
-    the start contact, so they mesh in the pair's start position.
-
-    Parameters
-    ----------
-    backlash : float or None
-        Circumferential backlash the pair is cut for, mm at the pitch point: each gear's teeth
-        are thinned by half of it (the cutter is made ``backlash/2`` thicker). None: twice the
-        cutter's own ``thickening`` if it has one, else the ISO/TR 10064-2 default
-        (``backlash.design_backlash``). 0 only when zero backlash is really wanted.
-    addendum, shift : float or (driver, driven)
-        Addendum and profile-shift coefficients, for both gears or per gear.
-    trim_ring_tips : bool
-        Internal pairs are checked against the closed-form interference limits along the pitch
-        curves (``interference.pair_limits``) *before* cutting. When the ring's tips reach into
-        the pinion's fillet (or beyond the cutter's involute), True shortens the ring's
-        addendum to the limit (less 0.02 m); False raises GeometryError naming the limit.
-    check_interference : bool
-        False cuts an interfering internal pair anyway (to study it: a finding), without raising.
-    kwargs
-        Go to :func:`generate` (``allow_undercut``, ``min_land``, ``rim``, ...).
-    """
-    ring = getattr(pair, "ring", None)
-    add = list(per_gear("addendum", addendum))
-    sh = per_gear("shift", shift)
-    _require_cutter(cutter)
-    j = resolve_backlash(backlash, cutter.thickening, cutter.module, pair.centre_distance, cutter.pressure_angle)
-    cutter = replace(cutter, thickening=j / 2)
-    if ring is not None:
-        for k, curve in enumerate((pair.driver, pair.driven)):  # a cutter that cannot roll says so first
-            cutter.check_fits(ArcFrame.from_curve(curve), internal=(k == 0) == (ring == "driver"), shift=sh[k])
-        r, p = (0, 1) if ring == "driver" else (1, 0)
-        names = ("ring", "planet")
-
-        def limits():
-            return pair_limits(
-                pair, cutter, ring_addendum=add[r], pinion_addendum=add[p], ring_shift=sh[r], pinion_shift=sh[p]
-            )
-
-        lim = limits()
-        if trim_ring_tips and lim.max_ring_addendum < add[r]:
-            trimmed = trimmed_addendum(lim.max_ring_addendum)
-            if trimmed > MIN_TRIMMED_ADDENDUM:
-                add[r] = trimmed
-                lim = limits()
-            elif check_interference:
-                raise GeometryError(
-                    f"ring-tip trimming would leave an addendum of {trimmed:.2f} m (limit > {MIN_TRIMMED_ADDENDUM} m): "
-                    + "; ".join(lim.problems(names, trochoid=False))
-                )
-        # KHK's trochoid limit, exact for circular gears, refuses non-circular pairs that mesh
-        # (tests/test_screen.py): the cut teeth's meshing check judges tip fouling instead
-        found = lim.problems(names, trochoid=False)
-        if found and check_interference:
-            raise GeometryError(
-                "the internal pair interferes before cutting: "
-                + "; ".join(found)
-                + _cutter_remedy(pair, cutter, add, sh)
-            )
-    driver = generate(
-        pair.driver, cutter, teeth[0], internal=ring == "driver", phase=0.0, addendum=add[0], shift=sh[0], **kwargs
-    )
-    driven = generate(
-        pair.driven, cutter, teeth[1], internal=ring == "driven", phase=0.5, addendum=add[1], shift=sh[1], **kwargs
-    )
-    return driver, driven
-
-
-def coarsest_cut(pair, *, max_module: float = 8.0, min_module: float = 0.5, **screen) -> ScreenResult | None:
-    """The coarsest tooth count of an internal ``pair`` that passes the fouling screen
-    (:func:`interference.screen_module`) *and* that the cutter can make: each screen result is
-    cut as it will be shipped (:func:`generate_pair`, default backlash and chord tolerance —
-    a trial at a coarser chord missed a 3 µm undercut); one the cutter refuses (undercut,
-    secondary cutting, cutter fit) moves the search to the next finer tooth count. None if no
-    module >= ``min_module`` passes both."""
-    limit = max_module
-    while True:
-        found = screen_module(pair, max_module=limit, min_module=min_module, **screen)
-        if found is None:
-            return None
-        sized, _ = pair.sized(teeth=found.teeth[0])
-        try:
-            generate_pair(
-                sized,
-                ShaperCutter(found.cutter_teeth, found.module),
-                found.teeth,
-                addendum=(found.ring_addendum, found.pinion_addendum)
-                if pair.ring == "driver"
-                else (found.pinion_addendum, found.ring_addendum),
-                check_interference=False,
-            )
-        except GeometryError:
-            limit = found.module * (1 - 1e-9)
-            continue
-        return found
-
-
 def _near_boundary(boundary, pts: np.ndarray, distance: float) -> np.ndarray:
     """Mask of the points ``pts`` (n, 2) within ``distance`` of the prepared ``boundary``.
 
@@ -833,41 +538,3 @@ def _tooth_spaces(body, doubtful, y, tau, s_centres, p, nrm, allow_undercut, tol
             "instead of a rack) or allow_undercut=True"
         )
     return out
-
-
-def _lands_between(frame, crossings, offset) -> np.ndarray:
-    """Tip land of each tooth (tooth t between spaces t and t+1), mm, from where each space's
-    envelope crosses the tip curve (``crossings``, (spaces, 2) arc lengths on the pitch curve):
-    the shortest way along the tip curve from a crossing of space t to one of space t+1 (any
-    other way crosses a space), its length ``∫ |1 + offset κ| ds`` by Simpson's rule (a land is
-    shorter than a tooth, where κ hardly changes)."""
-    length = frame.length
-    ahead = np.roll(crossings, -1, axis=0)
-    d = np.mod(ahead[:, None, :] - crossings[:, :, None], length).reshape(len(crossings), -1)
-    back = length - d
-    k = np.argmin(np.minimum(d, back), axis=1)
-    rows = np.arange(len(crossings))
-    start = crossings[rows, k // 2]
-    step = np.where(d[rows, k] <= back[rows, k], d[rows, k], -back[rows, k])
-    _, _, _, kap = frame.at(start[:, None] + step[:, None] * np.array([0.0, 0.5, 1.0]))
-    f = np.abs(1.0 + offset * kap)
-    return np.abs(step) * (f[:, 0] + 4 * f[:, 1] + f[:, 2]) / 6
-
-
-def _tip_lands(tip, cut, frame, s_centres, side, offset, phase):
-    """Length of tip curve left on each tooth, mm (tooth t between spaces t and t+1)."""
-    left = shapely.difference(tip.exterior if isinstance(tip, shapely.Polygon) else tip.boundary, cut)
-    pieces = getattr(left, "geoms", [left])
-    lands = np.zeros(len(s_centres))
-    pitch = frame.length / len(s_centres)
-    probe_s = np.linspace(0, frame.length, 8 * len(s_centres), endpoint=False)
-    p, _, nrm, _ = frame.at(probe_s, curvature=False)
-    probe = p + side * offset * nrm
-    for piece in pieces:
-        if piece.is_empty or piece.length == 0:
-            continue
-        mid = np.asarray(piece.interpolate(0.5, normalized=True).coords)[0]
-        k = int(np.argmin(np.linalg.norm(probe - mid, axis=1)))
-        t = int(math.floor(probe_s[k] / pitch - phase)) % len(s_centres)
-        lands[t] += piece.length
-    return lands

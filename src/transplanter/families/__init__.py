@@ -55,27 +55,20 @@ Study kinds so far
 :func:`check_family` re-runs the checks on a built folder (``transplanter check``).
 """
 
-from transplanter.families.build import (
-    Family,
-    build_families,
-    build_family,
-    check_families,
-    check_family,
-    discover,
-    load_family,
-    part_outcome,
-    run_script,
-)
+from transplanter.families.build import build_families, build_family
 from transplanter.families.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
+from transplanter.families.checking import check_families, check_family
 from transplanter.families.gear_pair import gear_pair, pair_family
 from transplanter.families.gears import MESH_STEPS, ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
 from transplanter.families.making import Making
 from transplanter.families.pitch import PitchPairStudy
 from transplanter.families.plates import Joint, LinkPlatesStudy
+from transplanter.families.scripts import Family, discover, load_family, run_script
 from transplanter.families.study import Built, Checked, Study, StudyDefaults, Table
 from transplanter.families.synthesis import SynthesisStudy
-from transplanter.families.trains import PlanetaryStudy
+from transplanter.families.trains import PlanetaryStudy, TrainProof
+from transplanter.families.workers import part_outcome
 
 __all__ = [
     "Study",
@@ -91,6 +84,7 @@ __all__ = [
     "Joint",
     "PitchPairStudy",
     "PlanetaryStudy",
+    "TrainProof",
     "ToothedPairStudy",
     "SynthesisStudy",
     "CamStudy",

@@ -30,16 +30,16 @@ import math
 from pathlib import Path
 
 from transplanter.cutter import RackCutter, ShaperCutter
-from transplanter.errors import GeometryError, SpecError, check_int, check_number
+from transplanter.cutter_choice import first_cutter
+from transplanter.errors import SpecError, check_int, check_number
 from transplanter.export import atomic_write
-from transplanter.families.build import Family, build_family
+from transplanter.families.build import build_family
 from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.making import Making
-from transplanter.interference import SCREEN_CUTTERS
+from transplanter.families.scripts import Family
 from transplanter.pitch import GearPair
 from transplanter.pitch.transmission import size_pair, transmission
 from transplanter.solids import Features
-from transplanter.teeth import generate_pair
 
 __all__ = ["gear_pair", "pair_family", "BORE_FRACTION", "DEFAULT_WIDTH"]
 
@@ -54,23 +54,6 @@ def _bore(pair: GearPair, k: int, cutter) -> float:
     curve = (pair.driver, pair.driven)[k]
     root = curve.min_radius().value - cutter.addendum * cutter.module  # the gear's dedendum is the cutter's addendum
     return max(3.0, math.floor(2 * BORE_FRACTION * root) / 2)
-
-
-def _cutter(pair: GearPair, teeth: tuple[int, int], module: float, backlash: float | None) -> ShaperCutter:
-    """The first standard shaper cutter (fewest teeth first) that cuts both gears."""
-    reasons = []
-    for z0 in SCREEN_CUTTERS:
-        cutter = ShaperCutter(z0, module)
-        try:
-            generate_pair(pair, cutter, teeth, backlash=backlash, trim_ring_tips=True)
-        except GeometryError as exc:
-            reasons.append(f"z0 = {z0}: {exc}")
-            continue
-        return cutter
-    raise GeometryError(
-        f"no shaper cutter of {', '.join(map(str, SCREEN_CUTTERS))} teeth cuts this pair at m = {module:g} mm: "
-        + " | ".join(reasons[-2:])
-    )
 
 
 def pair_family(
@@ -129,7 +112,7 @@ def pair_family(
             raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
         cutter = RackCutter(sizing.module)
     elif cutter_teeth is None:
-        cutter = _cutter(pair, sizing.teeth, sizing.module, backlash)
+        cutter = first_cutter(pair, sizing.teeth, sizing.module, backlash)
     else:
         cutter = ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), sizing.module)
     making = tuple(

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from transplanter import dxf, formats, solids
+from transplanter import formats, machining, solids
 from transplanter.errors import ExportError, GeometryError, SpecError, check_int, check_number, finite_positive
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import WIRE_EDM_TOLERANCE
@@ -62,14 +62,14 @@ def manufacture(
     (:mod:`transplanter.formats`): the STL, every DXF version, the STEP.
 
     ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12"); ``marks`` and
-    ``paths`` go to the DXF's ANNOTATION layer (``dxf.DxfPart``); the notes get the quantity and
+    ``paths`` go to the DXF's ANNOTATION layer (``formats.MadePart``); the notes get the quantity and
     the contour tolerance from ``making``. Returns the results, the files by name and the
     :class:`~transplanter.formats.MadePart` (for assemblies).
     """
     notes = (*notes, f"make {making.quantity}; contour tolerance +/-{making.tolerance:g} mm")
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
-    bad = dxf.wire_violations(section, wire_r)
+    bad = machining.wire_violations(section, wire_r)
     if not bad.is_empty:
         worst = max(bad.geoms, key=lambda g: g.area)
         where = locate(worst.centroid.coords[0])

@@ -30,9 +30,8 @@ from pathlib import Path
 
 import numpy as np
 import shapely
-from ezdxf.math import bulge_to_arc
 
-from transplanter import dxf
+from transplanter import formats
 from transplanter.errors import GeometryError, SpecError, check_number, finite_positive
 from transplanter.export import json_bytes
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture
@@ -41,7 +40,6 @@ from transplanter.linkage.fourbar import FourBar, Link
 from transplanter.linkage.planting import PlantingArm
 from transplanter.precision import rounded, significant
 from transplanter.solids import Features, circle_polygon
-from transplanter.threemf import placement
 from transplanter.tolerances import ARC_RADIUS_MM, TIP_PATH_TOL_MM
 
 __all__ = ["Joint", "LinkPlatesStudy", "finger_for_centre_of_mass", "TIP_PATH_TOL_MM", "FILLET_MM"]
@@ -199,7 +197,7 @@ class LinkPlatesStudy(StudyDefaults):
             "rocker": (*j["O4"], float(m.theta[Link.ROCKER][0])),
         }
         return [
-            (f"{self.name}.{link}", parts[link], placement(x, y, k * pitch, angle))
+            (f"{self.name}.{link}", parts[link], formats.placement(x, y, k * pitch, angle))
             for k, (link, (x, y, angle)) in enumerate((link, where[link]) for link in LINKS)
         ]
 
@@ -253,16 +251,11 @@ class LinkPlatesStudy(StudyDefaults):
         """Mean centre of the DXF arcs of ``radius`` (± ``ARC_RADIUS_MM``) whose centre is within ``radius / 2``
         of (u, v), weighted by their sweep: where the shop finds a hole's or the nose's centre."""
         found, weights = [], []
-        for verts, _ in contours:
-            for k in range(len(verts)):
-                x0, y0, b = verts[k]
-                if b == 0:
-                    continue
-                x1, y1, _ = verts[(k + 1) % len(verts)]
-                centre, _, _, r = bulge_to_arc((x0, y0), (x1, y1), b)
-                if abs(r - radius) < ARC_RADIUS_MM and math.hypot(centre.x - u, centre.y - v) < radius / 2:
-                    found.append((centre.x, centre.y))
-                    weights.append(abs(4 * math.atan(b)))
+        for arcs in contours:
+            for cx, cy, r, sweep in arcs:
+                if abs(r - radius) < ARC_RADIUS_MM and math.hypot(cx - u, cy - v) < radius / 2:
+                    found.append((cx, cy))
+                    weights.append(sweep)
         if not found or sum(weights) < math.pi / 2:  # a nose shows a half circle less its taper
             raise GeometryError(f"{self.name}: the DXF draws no arc of radius {radius:g} mm about {what}")
         return np.average(np.asarray(found), axis=0, weights=weights)
@@ -272,7 +265,7 @@ class LinkPlatesStudy(StudyDefaults):
         path against the designed one: ``{"max_deviation_mm", link lengths, ...}``."""
         centres = {}
         for link, joints in self.joints().items():
-            contours = dxf.bulge_contours(files[f"{self.name}.{link}.dxf"])
+            contours = formats.DXF.arc_centres(files[f"{self.name}.{link}.dxf"])
             for label, u, v, j in joints:
                 centres[link, label] = self._centre(contours, u, v, j.hole / 2, f"{label} on the {link}")
             if link == "coupler":

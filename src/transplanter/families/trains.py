@@ -11,21 +11,93 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from transplanter import dxf, plots
+from transplanter import formats, plots, validate
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.cutter import ShaperCutter
+from transplanter.cutter_choice import coarsest_cut
 from transplanter.errors import GeometryError, SpecError, finite_positive
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.making import Making, manufacture
 from transplanter.families.study import Built, StudyDefaults, Table
 from transplanter.interference import SCREEN_CUTTERS, fouling_screen
 from transplanter.objectives import Objective, Site, gearbox_radius, seed004_objectives
+from transplanter.pair_gate import generate_pair
 from transplanter.planetary import DifferentialTrain
 from transplanter.precision import rounded, significant
 from transplanter.solids import circle_polygon
-from transplanter.teeth import coarsest_cut, generate_pair
 
-__all__ = ["PlanetaryStudy"]
+__all__ = ["PlanetaryStudy", "TrainProof"]
+
+
+@dataclass(frozen=True)
+class TrainProof:
+    """The train a gear pair drives, as the pair's proof hook (``families.pair_proof.TrainHook``):
+    the ring/planet pair of ``train`` is meshed from its made parts, and for each source the train
+    is rebuilt from that meshing and its needle tip compared with the design; with ``site``, seed
+    004's objectives are measured again on the rebuilt train (:mod:`transplanter.objectives`) and a
+    missed one fails the part. Its planets are made ``train.planets`` times, placed on the carrier
+    as the assembly record says."""
+
+    train: DifferentialTrain
+    #: where the train works; None: the needle tip is compared, the objectives are not measured
+    site: Site | None = None
+
+    @property
+    def planets(self) -> int:
+        return self.train.planets
+
+    @property
+    def centre_distance(self) -> float:
+        return self.train.pair.centre_distance
+
+    def carrier(self) -> dict:
+        """How many planets to make, and where they sit on the carrier."""
+        n = self.train.planets
+        offsets = -2 * math.pi * np.arange(n) / n  # arm k's carrier line, from arm I's
+        contact = self.train.pair.driven_contact_angle(offsets)  # on each planet, at the start
+        return {
+            "planets": n,
+            # counter-clockwise in the ring's DXF frame: planet k's contact with the ring lies on its
+            # carrier line, where the ring meets it at the start (arm k+1 is where arm k will be
+            # after a further 360/N deg of clockwise carrier turn)
+            "planet_carrier_angles_deg": [rounded(math.degrees(o) % 360.0) for o in offsets],
+            # the planet's DXF +x from its carrier line (centre of the ring -> planet centre), turning
+            # counter-clockwise: its pitch point at polar angle `contact` then meets the ring
+            "planet_body_angle_to_carrier_line_deg": [rounded(math.degrees(-c) % 360.0) for c in contact],
+            "ring_contact_angles_deg": [rounded(math.degrees(o) % 360.0) for o in offsets],
+        }
+
+    def prove(self, source: str, report, found: list[str], module: float) -> tuple[object, dict, list[str]]:
+        """The train rebuilt from ``report`` (``source``'s meshing, whose problems are ``found``):
+        its check, its figures, and the problems it finds."""
+        check = validate.train_check(self.train, report)
+        res = check.summary()
+        problems = []
+        # the planet may turn by (half the backlash + transmission error) / its pitch radius
+        # off the design: the needle tip by S times that at most
+        bound = (
+            self.train.arm.tip
+            * (report.backlash_max.value / 2 + report.max_transmission_error)
+            / self.train.pair.driven.min_radius().value
+        )
+        res["predicted_bound_mm"] = rounded(bound, 6)
+        if not found and check.max_deviation > bound:
+            problems.append(
+                f"{source}: the train rebuilt from the parts leaves the design by "
+                f"{check.max_deviation:.4g} mm, more than the {bound:.4g} mm its backlash allows"
+            )
+        if found:
+            res["note"] = "from the contact at the pitch point; the problems above are ignored"
+        if self.site is not None:
+            objectives = seed004_objectives(check.made, self.site, module)
+            res["objectives"] = {f"{o.number} {o.name}": f"{o.verdict} (limit {o.limit})" for o in objectives}
+            problems += [
+                f"{source}: the train rebuilt from the parts misses objective "
+                f"{o.number} {o.name} = {o.value:.4g} {o.unit} (limit {o.limit})"
+                for o in objectives
+                if not o.ok
+            ]
+        return check, res, problems
 
 
 @dataclass(frozen=True)
@@ -61,7 +133,9 @@ class PlanetaryStudy(StudyDefaults):
     seedling_box: tuple[float, float]
     plant_spacing: float
     planting_depth: float
-    gearbox_radius: float
+    #: radius of the gearbox circle, mm (objective x's height above ground); None with ``module``:
+    #: derived from the ring and the module (``objectives.gearbox_radius``)
+    gearbox_radius: float | None = None
     reference: tuple[tuple[str, float, str], ...] = ()
     variants: tuple[tuple[str, DifferentialTrain], ...] = ()
     site: Site | None = None
@@ -76,6 +150,10 @@ class PlanetaryStudy(StudyDefaults):
             raise SpecError(f"{self.name}: give both site and module (objectives), or neither")
         if self.module is not None:
             finite_positive("module", self.module)
+        elif self.gearbox_radius is None:
+            raise SpecError(f"{self.name}: give gearbox_radius (mm), or site and module to derive it")
+        else:
+            finite_positive("gearbox_radius", self.gearbox_radius)
         if self.carrier is not None and not (len(self.carrier) == 2 and isinstance(self.carrier[1], Making)):
             raise SpecError(f"{self.name}: carrier must be (outer radius in mm, Making)")
 
@@ -207,7 +285,7 @@ class PlanetaryStudy(StudyDefaults):
         # the shop's reading: the planet-shaft holes' centres from the re-read DXF, each design
         # hole matched with the nearest re-read round hole of its diameter
         area = math.pi * (holes[0][2] / 2) ** 2
-        rounds = [shapely.Polygon(c) for c in dxf.read_contours(files[f"{stem}.dxf"])]
+        rounds = [shapely.Polygon(c) for c in formats.DXF.contours(files[f"{stem}.dxf"])]
         centres = [p.centroid.coords[0] for p in rounds if abs(p.area - area) < 1e-3 * area]
         err = max((min(math.dist(c, w) for c in centres) for w in want), default=math.inf)
         if len(centres) != tr.planets or err > 1e-3:

@@ -1,0 +1,45 @@
+"""Building parts in worker processes: each worker loads a family once and builds the parts it is
+given; a part's failure is its outcome, never the worker's."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from transplanter.errors import TransplanterError
+from transplanter.families.scripts import Family, load_family
+from transplanter.families.study import Built, Study
+
+__all__ = ["FAMILIES", "executor", "outcome", "part_outcome"]
+
+
+def part_outcome(part: Study, root: Path) -> Built | str:
+    """Build one part: its :class:`~transplanter.families.study.Built` (record, files), or the
+    error the manifest records for it — any exception a part raises is its failure (a project
+    error by its message; anything else with its type, as a bug to report)."""
+    try:
+        return Built(*part.build(root))
+    except TransplanterError as exc:
+        return f"{type(exc).__name__}: {exc}"
+    except Exception as exc:  # a bug, or a library error that escaped: the part fails, the build goes on
+        return f"{type(exc).__name__} (unexpected, please report): {exc}"
+
+
+#: the families being built, by name: set by the builder before it forks its workers
+FAMILIES: dict[str, Family] = {}
+
+
+def executor(jobs: int):
+    """A pool of ``jobs`` worker processes, forked where the platform can (the workers then
+    start with everything this process has imported and loaded)."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else None)
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
+
+
+def outcome(family: str, script: str | None, part: str):
+    fam = FAMILIES.get(family)
+    if fam is None:  # a worker that was not forked from the builder: load the script itself
+        fam = FAMILIES[family] = load_family(script)
+    return part_outcome(next(p for p in fam.parts if p.name == part), Path("."))
