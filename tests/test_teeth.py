@@ -311,6 +311,25 @@ def test_a_cutter_without_a_module_takes_its_studys():
         assert ToothedPairStudy("p", pair, ShaperCutter(12, 3.0), teeth=30).design_backlash > 0
 
 
+def test_pair_studies_size_one_way():
+    """Both pair studies take ``teeth`` (the driver's) or ``module`` (mm), exactly one, and size
+    the pair as ``GearPair.sized`` does: a module scales the curves to a whole number of teeth."""
+    from transplanter.families import PitchPairStudy, ToothedPairStudy
+
+    pair = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.1, 2), "external", 2)
+    by_module = ToothedPairStudy("p", pair, ShaperCutter(12), module=2.0).sized
+    scaled, sizing = pair.sized(module=2.0)
+    assert by_module.sizing == sizing and by_module.pair.centre_distance == scaled.centre_distance
+    assert (
+        by_module.tool.module == 2.0
+        and ToothedPairStudy("p", pair, ShaperCutter(12), teeth=30).sized.sizing.teeth[0] == 30
+    )
+    for kwargs in ({}, {"teeth": 30, "module": 2.0}):
+        with pytest.raises(SpecError, match="give exactly one of teeth"):
+            ToothedPairStudy("p", pair, ShaperCutter(12), **kwargs)
+    assert {f for f in PitchPairStudy.__dataclass_fields__} >= {"teeth", "module"}
+
+
 def _lobed_pair():
     """A 2-lobed planet (60 teeth) in its 3-lobed ring (90), m = 2 (the teeth benchmark's)."""
     pair = GearPair.from_driver(PitchCurve.ellipse(60.0, 0.12, lobes=2), "internal", driven_lobes=3)

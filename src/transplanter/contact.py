@@ -160,10 +160,10 @@ class Outline:
             starts += [i0, np.zeros(n, dtype=int)]
             ends += [i1, j1]
             owners += [np.arange(n), np.arange(n)]
-        starts, ends, owners = np.concatenate(starts), np.concatenate(ends), np.concatenate(owners)
-        count = np.maximum(ends - starts, 0)
-        step = np.repeat(owners, count)
-        pos = np.repeat(starts - (np.cumsum(count) - count), count) + np.arange(len(step))
+        first, last, owner = np.concatenate(starts), np.concatenate(ends), np.concatenate(owners)
+        count = np.maximum(last - first, 0)
+        step = np.repeat(owner, count)
+        pos = np.repeat(first - (np.cumsum(count) - count), count) + np.arange(len(step))
         return step, self._order[pos]
 
     def placed(self, idx: np.ndarray, turn, x=0.0, at: np.ndarray | None = None) -> np.ndarray:

@@ -90,6 +90,16 @@ class _Proportions:
     tip_fillet: float = 0.2
     thickening: float = 0.0
 
+    @property
+    def m(self) -> float:
+        """The module, mm, of a sized cutter (SpecError for one given without a module)."""
+        module = getattr(self, "module", None)
+        if module is None:
+            raise SpecError(
+                "the cutter has no module: give it one (cutter.sized(m)), or leave it to a ToothedPairStudy"
+            )
+        return module
+
 
 def _check_proportions(cutter) -> bool:
     """Check a cutter's proportions (pressure angle; addendum, dedendum, tip fillet in modules)
@@ -172,7 +182,7 @@ class ShaperCutter(_Proportions):
 
     @property
     def pitch_radius(self) -> float:
-        return self.module * self.teeth / 2
+        return self.m * self.teeth / 2
 
     @property
     def base_radius(self) -> float:
@@ -180,16 +190,16 @@ class ShaperCutter(_Proportions):
 
     @property
     def tip_radius(self) -> float:
-        return self.pitch_radius + self.addendum * self.module
+        return self.pitch_radius + self.addendum * self.m
 
     @property
     def root_radius(self) -> float:
-        return self.pitch_radius - self.dedendum * self.module
+        return self.pitch_radius - self.dedendum * self.m
 
     @property
     def pitch(self) -> float:
         """Circular pitch π m, mm."""
-        return math.pi * self.module
+        return math.pi * self.m
 
     @property
     def involute_end_roll(self) -> float:
@@ -221,7 +231,7 @@ class ShaperCutter(_Proportions):
         cached = self.__dict__.get("_geo")
         if cached is not None:
             return cached
-        rb, ra, rf = self.base_radius, self.tip_radius, self.tip_fillet * self.module
+        rb, ra, rf = self.base_radius, self.tip_radius, self.tip_fillet * self.m
         if ra <= rb:
             raise SpecError("cutter tip radius must exceed its base radius (addendum too small)")
         u_tip = math.sqrt((ra / rb) ** 2 - 1)
@@ -301,7 +311,7 @@ class ShaperCutter(_Proportions):
         the pitch point, ``r_c + x m`` from it on the cutter's side (``side`` = +1 outside an
         external gear, -1 inside a ring), turned by ``η = -side (s - s_centre) / r_c``."""
         p, _, nrm, _ = frame.at(s, curvature=False)
-        c = p + side * (self.pitch_radius + shift * self.module) * nrm
+        c = p + side * (self.pitch_radius + shift * self.m) * nrm
         u = -side * nrm
         eta = -side * (np.asarray(s, dtype=float) - s_centre) / self.pitch_radius
         return c, np.arctan2(u[..., 1], u[..., 0]) - eta
@@ -314,7 +324,7 @@ class ShaperCutter(_Proportions):
         k = q[..., 0] * n[..., 1] - q[..., 1] * n[..., 0]
         nu = np.arctan2(n[..., 1], n[..., 0])
         rc = self.pitch_radius
-        d = rc + shift * self.module
+        d = rc + shift * self.m
         sc = np.asarray(s_centres, dtype=float)[:, None]
         lam = np.full((sc.shape[0], k.size), rc)
         for _ in range(40 if shift else 1):
@@ -333,7 +343,7 @@ class ShaperCutter(_Proportions):
     def check_fits(self, frame, internal: bool, shift: float) -> None:
         """GeometryError if the cutter cannot roll on the curve: its rolling radius against the
         smallest concave (external gear) or convex (ring) radius of curvature."""
-        d = self.pitch_radius + shift * self.module
+        d = self.pitch_radius + shift * self.m
         (s_lo, k_lo), (s_hi, k_hi) = frame.curvature_extremes
         if internal:
             limit, where, kind = (1 / k_hi if k_hi > 0 else math.inf), s_hi, "convex"
@@ -406,7 +416,7 @@ class RackCutter(_Proportions):
     @property
     def pitch(self) -> float:
         """Circular pitch π m, mm."""
-        return math.pi * self.module
+        return math.pi * self.m
 
     def sized(self, module: float) -> RackCutter:
         """This rack at ``module`` (mm): a rack stated without one takes its study's."""
@@ -421,7 +431,7 @@ class RackCutter(_Proportions):
         cached = self.__dict__.get("_geo")
         if cached is not None:
             return cached
-        m, a = self.module, self.pressure_angle
+        m, a = self.m, self.pressure_angle
         w0 = self.pitch / 4 + self.thickening / 2  # half thickness on the reference line
         rho = self.tip_fillet * m
         x_tip = self.addendum * m
@@ -450,7 +460,7 @@ class RackCutter(_Proportions):
         q[m] = np.stack([x, g["w0"] - x * math.tan(a)], axis=-1)
         n[m] = flank
         m = piece == 6  # flank from the reference line to the rack's root
-        x = -t[m] * self.dedendum * self.module
+        x = -t[m] * self.dedendum * self.m
         q[m] = np.stack([x, g["w0"] - x * math.tan(a)], axis=-1)
         n[m] = flank
         return q, n
@@ -465,14 +475,14 @@ class RackCutter(_Proportions):
         moved ``s - s_centre`` back along the tangent and ``x m`` away from the gear."""
         p, t, nrm, _ = frame.at(s, curvature=False)
         u = -side * nrm  # towards the gear: the rack's +x
-        c = p - (np.asarray(s, dtype=float) - s_centre)[..., None] * t - shift * self.module * u
+        c = p - (np.asarray(s, dtype=float) - s_centre)[..., None] * t - shift * self.m * u
         return c, np.arctan2(u[..., 1], u[..., 0])
 
     def contact_rolls(self, frame, q, n, s_centres, side: float, shift: float) -> np.ndarray:
         """Rolls at which profile points touch: their normal through the pitch point
         ``(x m, y)`` of the rack frame, ``y = q_y - (q_x - x m) n_y / n_x``, and ``s = s_j - e y``
         (the rack's +y is ``-e T``)."""
-        y = q[..., 1] - (q[..., 0] - shift * self.module) * n[..., 1] / n[..., 0]
+        y = q[..., 1] - (q[..., 0] - shift * self.m) * n[..., 1] / n[..., 0]
         return np.asarray(s_centres, dtype=float)[:, None] - side * y
 
     def check_fits(self, frame, internal: bool, shift: float) -> None:
@@ -494,7 +504,7 @@ class RackCutter(_Proportions):
         q = q[::-1]  # from the upper root down the tooth to the lower root: clockwise in y for +x up
         half = (teeth - 1) / 2
         rows = [q + (0.0, (half - j) * self.pitch) for j in range(teeth)]
-        back = -(self.dedendum + 1.0) * self.module
+        back = -(self.dedendum + 1.0) * self.m
         top, bottom = rows[0][0, 1], rows[-1][-1, 1]
         pts = np.concatenate([[[back, top]], *rows, [[back, bottom]]])
         return pts[::-1] if _signed_area(pts) < 0 else pts

@@ -9,13 +9,39 @@ The conventions are the meshing module's (driver clockwise about the origin, the
 from __future__ import annotations
 
 import math
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 import shapely
 
 from transplanter import contact
 
-__all__ = ["CLEARANCE_CAP_MM", "FOULING_PITCHES", "MESH_CHUNK", "MeshSweep"]
+__all__ = ["CLEARANCE_CAP_MM", "FOULING_PITCHES", "MESH_CHUNK", "MeshSweep", "MeshingPair"]
+
+
+class _Radius(Protocol):
+    def r(self, phi, nu: int = 0) -> np.ndarray: ...
+
+
+@runtime_checkable
+class MeshingPair(Protocol):
+    """What the meshing proof needs of a pair of pitch curves (``pitch.GearPair`` is one): where
+    the driven gear's axis is, which gear (if any) is a ring, the driver's polar radius, and the
+    design motion."""
+
+    @property
+    def centre_distance(self) -> float: ...
+
+    @property
+    def ring(self) -> str | None: ...
+
+    @property
+    def driver(self) -> _Radius: ...
+
+    def driven_rotation(self, phi1) -> np.ndarray:
+        """The driven gear's rotation (rad, its own sense) at driver rotations ``phi1`` (rad)."""
+        ...
+
 
 #: overlap further than this many circular pitches from the pitch point is fouling: the path
 #: of contact of involute teeth ends about one pitch (contact ratio ~1.5-2) from it
@@ -39,7 +65,7 @@ MESH_CHUNK = 64
 class MeshSweep:
     """The arrays of one :func:`mesh_check` and the stages that fill them, a chunk of steps at a time."""
 
-    def __init__(self, pair, drv, drn, module, phi1, half, tol, sectors=None):
+    def __init__(self, pair: MeshingPair, drv, drn, module, phi1, half, tol, sectors=None):
         self.pair, self.drv, self.drn, self.module, self.half, self.tol = pair, drv, drn, module, half, tol
         self.external = pair.ring is None
         self.centre = -pair.centre_distance if pair.ring == "driven" else pair.centre_distance
@@ -277,9 +303,9 @@ class MeshSweep:
         pb = contact.rotate(q1[vb], -turn * back, sb)
         near_b = contact.segment_distance(pb, q2[eb], e2[eb]) <= tol
         size = len(drn.xy)
-        keys = [sel[s2[va[near_a]]] * size + j2[va[near_a]], sel[s2[eb[near_b]]] * size + j2[eb[near_b]]]
+        found = [sel[s2[va[near_a]]] * size + j2[va[near_a]], sel[s2[eb[near_b]]] * size + j2[eb[near_b]]]
         mine = np.isin(marks // size, sel[over])
-        keys = np.unique(np.concatenate([*keys, marks[mine]]))
+        keys = np.unique(np.concatenate([*found, marks[mine]]))
         starts = keys[~np.isin((keys // size) * size + drn.prev[keys % size], keys)]
         counted = np.bincount(starts // size, minlength=len(ks))[sel]
         self.nc[k] = np.where(valid, counted, self.nc[k])

@@ -70,12 +70,12 @@ import shapely
 
 from transplanter import contact
 from transplanter.errors import GeometryError, SpecError
-from transplanter.mesh_engine import CLEARANCE_CAP_MM, FOULING_PITCHES, MeshSweep
+from transplanter.mesh_engine import CLEARANCE_CAP_MM, FOULING_PITCHES, MeshingPair, MeshSweep
 from transplanter.mesh_refine import refine as refine_extremes
 from transplanter.precision import significant
 from transplanter.tolerances import AREA_ROUND_OFF_MM2, CONTACT_TOL_MM, PENETRATION_TOL
 
-__all__ = ["FOULING_PITCHES", "CLEARANCE_CAP_MM", "Extreme", "MeshReport", "mesh_check"]
+__all__ = ["FOULING_PITCHES", "CLEARANCE_CAP_MM", "Extreme", "MeshReport", "MeshingPair", "mesh_check"]
 
 
 @dataclass(frozen=True)
@@ -117,6 +117,8 @@ class MeshReport:
 
     def _all(self, which: int) -> tuple[np.ndarray, np.ndarray]:
         values = (self.backlash, self.clearance)[which]
+        if values is None:
+            raise GeometryError("this meshing report has no clearance: the check ran without it")
         if self.refined is None:
             return self.driver_angle, values
         return np.concatenate((self.driver_angle, self.refined[0])), np.concatenate((values, self.refined[1 + which]))
@@ -274,7 +276,7 @@ def _polygon(name: str, poly):
 
 
 def mesh_check(
-    pair,
+    pair: MeshingPair,
     driver_polygon,
     driven_polygon,
     module: float,

@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Protocol
+from typing import Protocol, cast
 
 import numpy as np
 
@@ -59,7 +59,8 @@ __all__ = ["Transmission", "ArmGeometry", "ArmState", "DifferentialTrain"]
 class Transmission(Protocol):
     """What the train needs from a ring-driven internal pair (``pitch.GearPair`` is one)."""
 
-    centre_distance: float
+    @property
+    def centre_distance(self) -> float: ...
 
     @property
     def lobes(self) -> tuple[int, int]: ...
@@ -173,13 +174,18 @@ class DifferentialTrain:
             object.__setattr__(self, "speed_ratio", 1.0 - n2 / n1)
         elif check_number("speed_ratio ω1/ω2", self.speed_ratio, -1e3, 1e3) == 1.0:
             raise SpecError.out_of_range("speed_ratio ω1/ω2", self.speed_ratio, "finite and != 1 (differential)")
-        copies = self.speed_ratio * n1 / (self.planets * n2)
+        copies = self.omega_ratio * n1 / (self.planets * n2)
         if self.planets > 1 and abs(copies - round(copies)) > 1e-9:
             raise SpecError(
                 f"the {self.planets} arms would not be copies of each other: (ω1/ω2)·n1/(N·n2) = "
                 f"{self.speed_ratio:.6g}·{n1}/({self.planets}·{n2}) = {copies:.6g} must be a whole number "
                 f"(with the default ratio: (n1 - n2)/(N·n2)); choose other lobe numbers or planets"
             )
+
+    @property
+    def omega_ratio(self) -> float:
+        """ω1/ω2, ring to carrier speed: ``speed_ratio`` as given or its default (set at creation)."""
+        return cast(float, self.speed_ratio)
 
     @property
     def period(self) -> float:
@@ -190,14 +196,14 @@ class DifferentialTrain:
     def relative_turns(self) -> float:
         """Planet turns relative to the carrier per carrier turn."""
         n1, n2 = self.pair.lobes
-        return (1 - self.speed_ratio) * n1 / n2
+        return (1 - self.omega_ratio) * n1 / n2
 
     def state(self, theta, arm_index: int = 0) -> ArmState:
         """Arm ``arm_index`` (0 = arm I) at carrier rotations ``theta`` (rad, clockwise)."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         offset = 2 * math.pi * arm_index / self.planets
         phi_h = self.carrier_start - theta - offset
-        gamma1 = (1.0 - self.speed_ratio) * theta
+        gamma1 = (1.0 - self.omega_ratio) * theta
         # ring body angle of this planet's contact, then the planet's own contact angle
         contact = self.pair.driven_contact_angle(-offset - gamma1)
         planet = phi_h - contact

@@ -52,6 +52,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import cast
 
 import numpy as np
 import shapely
@@ -359,7 +360,7 @@ def generate(
                     body = shapely.Polygon(rim_ring, [cut_ring.interiors[0].coords])
         if body is None:
             body = shapely.difference(disc, shapely.union(tip, cut))
-        removed = (tip, cut)
+        removed: tuple[shapely.Geometry, ...] = (tip, cut)
     else:
         body = shapely.difference(tip, cut)
         removed = (cut,)
@@ -372,7 +373,9 @@ def generate(
         )
     spaces = _tooth_spaces(body, doubtful, y, tau, s_centres, centres, normals, allow_undercut, tolerance)
     if internal:
-        depth, where = secondary_cut(body, frame, cutter, teeth, shift, side, phase=phase, turns=turns)
+        # a ring is cut by a shaper: a rack cannot roll inside a curve (cutter.check_fits refused it)
+        shaper = cast(ShaperCutter, cutter)
+        depth, where = secondary_cut(body, frame, shaper, teeth, shift, side, phase=phase, turns=turns)
         if depth > 4 * tolerance:
             tooth = int(round(where / pitch - phase)) % teeth
             raise GeometryError(
@@ -443,7 +446,7 @@ def secondary_cut(
         placed = _on_gear(c[k, None, :], psi[k, None], teeth_q[t])  # (candidates, points, 2)
         xs, ys = placed[..., 0], placed[..., 1]
         near = np.hypot(xs, ys) >= reach
-        margin = cutter.module
+        margin = cutter.m
         if turns > 1 and near.any():  # one sector: the ring's teeth within a module of the cutter's
             x, y = xs[near], ys[near]
             box = (x.min() - margin, y.min() - margin, x.max() + margin, y.max() + margin)

@@ -1,8 +1,11 @@
 """Part families: the scripts in ``parts/`` and building them into ``exports/``.
 
 One module per kind of study (``linkage``, ``plates``, ``pitch``, ``trains``, ``gears``,
-``synthesis``, ``cams``), ``making`` for the shop files they share (through
-:mod:`transplanter.formats`), ``build`` for families themselves, ``study`` for what the builder
+``synthesis``, ``cams``; the gear pair's stations in ``pair_cut``, ``pair_proof`` and
+``pair_assembly``), ``making`` for the shop files they share (through
+:mod:`transplanter.formats`), ``scripts``, ``manifest``, ``workers``, ``build`` and ``checking``
+for families themselves (loading a script, its record, building in processes, building,
+``transplanter check``), ``study`` for what the builder
 asks of a study (the :class:`Study` protocol: ``name``, ``cost``, ``build``, ``check``,
 ``tables``, ``analysis_files``; a new kind is a new module and the part script using it), and
 ``gear_pair`` for one toothed pair made in one call from a transmission ratio

@@ -28,8 +28,10 @@ MESH_STEPS = 180
 class ToothedPairStudy(StudyDefaults):
     """Teeth of both gears of ``pair`` cut by ``cutter``; ``teeth`` is the driver's tooth count.
 
-    **Sizing is stated once**: the pair is sized by ``teeth``, and a cutter given without a module
-    (``ShaperCutter(12)``, ``RackCutter()``) takes the pair's; one given with a module must agree.
+    **Sizing is stated once**, as for every pair study: ``teeth`` (the driver's) or ``module``
+    (mm; the curves scaled to a whole number of its teeth), exactly one; a cutter given without a
+    module (``ShaperCutter(12)``, ``RackCutter()``) takes the pair's, one given with a module must
+    agree.
 
     ``rejected`` lists ``(label, teeth, cutter)`` alternatives (e.g. a published module) that
     are tried and must fail: their errors go into the manifest as findings.
@@ -82,8 +84,8 @@ class ToothedPairStudy(StudyDefaults):
     pair: GearPair
     #: the cutter; without a module it takes the pair's
     cutter: Cutter
-    #: the driver's tooth count (it states the module)
-    teeth: int
+    #: the driver's tooth count (the module follows from the curves); or give ``module``
+    teeth: int | None = None
     allow_undercut: bool = False
     #: ``(label, teeth, cutter)`` alternatives that must fail at the gate (findings)
     rejected: tuple[tuple[str, int, Cutter], ...] = ()
@@ -105,6 +107,9 @@ class ToothedPairStudy(StudyDefaults):
     trim_ring_tips: bool = True
     #: meshing-check steps per driver turn (raised to be coprime with the driver's tooth count)
     mesh_steps: int = MESH_STEPS
+    #: the module, mm, instead of ``teeth``: the curves are scaled to a whole number of its teeth
+    #: (as ``PitchPairStudy`` and ``GearPair.sized`` size a pair)
+    module: float | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.pair, GearPair):
@@ -112,6 +117,11 @@ class ToothedPairStudy(StudyDefaults):
         if not isinstance(self.cutter, Cutter):
             raise SpecError(
                 f"{self.name}: cutter must be a cutter (ShaperCutter, RackCutter), got {type(self.cutter).__name__}"
+            )
+        if (self.teeth is None) == (self.module is None):
+            raise SpecError(
+                f"{self.name}: give exactly one of teeth (the driver's, the module follows) or module (mm, the "
+                f"curves scaled to it); got teeth={self.teeth!r}, module={self.module!r}"
             )
         check_int("mesh_steps", self.mesh_steps, 4, 100_000)
         check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
@@ -126,7 +136,7 @@ class ToothedPairStudy(StudyDefaults):
     @cached_property
     def sized(self) -> Sized:
         """The pair sized by ``teeth``, the cutter at its module and the backlash it is cut for."""
-        return size(self.pair, self.teeth, self.cutter, self.backlash)
+        return size(self.pair, self.cutter, self.backlash, teeth=self.teeth, module=self.module)
 
     @property
     def tool(self) -> Cutter:

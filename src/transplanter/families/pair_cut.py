@@ -44,13 +44,16 @@ class Sized:
     backlash: float
 
 
-def size(pair: GearPair, teeth: int, cutter: Cutter, backlash: float | None) -> Sized:
-    """``pair`` sized by ``teeth`` (the driver's); ``cutter`` takes its module, or must agree with
-    it; ``backlash`` None = twice the cutter's thickening, else the ISO/TR 10064-2 default."""
-    sized, sizing = pair.sized(teeth=teeth)
+def size(
+    pair: GearPair, cutter: Cutter, backlash: float | None, *, teeth: int | None = None, module: float | None = None
+) -> Sized:
+    """``pair`` sized by ``teeth`` (the driver's) or ``module`` (mm, the curves scaled), exactly one
+    (``GearPair.sized``); ``cutter`` takes its module, or must agree with it; ``backlash`` None =
+    twice the cutter's thickening, else the ISO/TR 10064-2 default."""
+    sized, sizing = pair.sized(teeth=teeth, module=module)
     if cutter.module is not None and abs(sizing.module - cutter.module) > 1e-9 * sizing.module:
         raise SpecError.out_of_range(
-            "cutter module", cutter.module, f"the pair's module {sizing.module!r} mm at {teeth} teeth"
+            "cutter module", cutter.module, f"the pair's module {sizing.module!r} mm at {sizing.teeth[0]} teeth"
         )
     tool = cutter if cutter.module is not None else cutter.sized(sizing.module)
     j = resolve_backlash(backlash, tool.thickening, sizing.module, sized.centre_distance, tool.pressure_angle)

@@ -43,9 +43,13 @@ class PitchPairStudy(StudyDefaults):
     cost = 2
 
     name: str
+    #: the pitch pair, any size: sized here by ``teeth`` or ``module``
     pair: GearPair
+    #: the driver's tooth count (the module follows from the curves)
     teeth: int | None = None
+    #: the module, mm (the curves are scaled to a whole number of its teeth)
     module: float | None = None
+    #: refuse concave parts of either curve
     require_convex: bool = False
 
     def build(self, out: Path) -> Built:

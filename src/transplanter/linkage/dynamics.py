@@ -173,7 +173,7 @@ def centre_of_mass(motion: FourBarMotion, masses: MassModel) -> PointMotion:
 def shaking_force(motion: FourBarMotion, masses: MassModel) -> np.ndarray:
     """Force of the moving links on the frame, ``-sum m_i a_i``, (n, 2) N."""
     pms = _com_motions(motion, masses)
-    return -1e-3 * sum(masses.of(k).mass * pms[k].acceleration for k in _MOVING)
+    return -1e-3 * np.sum([masses.of(k).mass * pms[k].acceleration for k in _MOVING], axis=0)
 
 
 def crank_torque(motion: FourBarMotion, masses: MassModel, gravity: float = STANDARD_GRAVITY) -> np.ndarray:

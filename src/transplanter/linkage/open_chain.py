@@ -118,6 +118,12 @@ class OpenChain3R:
     degree: int = 3
     centre: tuple[float, float] = field(init=False)
     pose_tau: np.ndarray = field(init=False, repr=False)
+    # set once by __post_init__: the chain at its first pose, and β2(τ), g(τ) = β3(τ) - τ as splines
+    _abs1_start: float = field(init=False, repr=False)
+    _link1: float = field(init=False, repr=False)
+    _link2: float = field(init=False, repr=False)
+    _beta2: PeriodicSpline = field(init=False, repr=False)
+    _g: PeriodicSpline = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         finite_positive("arm_length", self.arm_length)
@@ -157,7 +163,7 @@ class OpenChain3R:
         object.__setattr__(self, "_g", PeriodicSpline(*k3, degree=self.degree))
 
     @staticmethod
-    def _knots(tau, values, extra, name, offset):
+    def _knots(tau, values, extra, name, offset) -> tuple[np.ndarray, np.ndarray]:
         ex = finite_array(name, [list(p) for p in extra], ndim=2) if extra else np.zeros((0, 2))
         if ex.size and (np.any(ex[:, 0] <= 0) or np.any(ex[:, 0] >= TWO_PI)):
             raise SpecError.out_of_range(f"{name} τ", ex[:, 0].tolist(), "inside (0, 2π) rad")

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 from scipy import integrate, optimize
@@ -298,7 +299,7 @@ class PlantingArm:
                 raise SpecError.out_of_range("planting_depth", planting_depth, "finite and > 0 mm")
             level = y_low + depth
         else:
-            level = float(soil_level)
+            level = float(cast(float, soil_level))  # exactly one of the two is given
             if not math.isfinite(level):
                 raise SpecError.out_of_range("soil_level", soil_level, "finite (mm)")
             depth = level - y_low

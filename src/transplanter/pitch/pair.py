@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from enum import StrEnum
+from typing import cast
 
 import numpy as np
 from scipy import optimize
@@ -78,6 +79,9 @@ class ConjugateRadius(Periodic):
     integral θ2, residual < 1e-12 rad) and ``r2 = c0 a + c1 r1(θ1)``; derivatives follow by
     the chain rule, so they are as exact as the driver's.
     """
+
+    period: float
+    breakpoints: np.ndarray
 
     def __init__(self, driver: Periodic, a: float, mesh: Mesh, driven_lobes: int, theta2: PeriodicIntegral):
         self.driver = driver
@@ -135,6 +139,9 @@ class RatioRadius(Periodic):
     External: ``r1 = a i / (1 + i)``; internal, ring driving: ``r1 = a i / (i - 1)`` (i > 1);
     internal, planet driving: ``r1 = a i / (1 - i)`` (i < 1).
     """
+
+    period: float
+    breakpoints: np.ndarray
 
     def __init__(self, ratio: Periodic, a: float, kind: str):
         self.ratio, self.a, self.kind = ratio, a, kind
@@ -420,7 +427,7 @@ class GearPair:
                 raise SpecError.out_of_range("teeth", teeth, f"a positive multiple of the driver's {n1} lobes")
             k = int(teeth) // n1
             return self, ToothSizing((k * n1, k * n2), per_lobe_len / (k * math.pi), 1.0)
-        m = finite_positive("module", module)
+        m = finite_positive("module", cast(float, module))  # exactly one of module and teeth is given
         k = max(1, round(per_lobe_len / (math.pi * m)))
         scale = k * math.pi * m / per_lobe_len
         return self.scaled(scale), ToothSizing((k * n1, k * n2), m, scale)

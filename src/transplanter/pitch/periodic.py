@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.interpolate import BSpline, PPoly, make_interp_spline
@@ -76,8 +77,13 @@ class Periodic:
         Points in ``[0, period)`` where the function is less smooth (spline knots).
     """
 
-    period: float
-    breakpoints: np.ndarray
+    if TYPE_CHECKING:  # read-only to users: a field in some subclasses, a property in others
+
+        @property
+        def period(self) -> float: ...
+
+        @property
+        def breakpoints(self) -> np.ndarray: ...
 
     def __call__(self, x, nu: int = 0) -> np.ndarray:
         """Value (nu = 0) or derivative of order nu at ``x`` (array-like, rad)."""
@@ -185,6 +191,9 @@ class PeriodicSpline(Periodic):
     >>> round(float(s(2 * np.pi)), 12), round(float(s(0.0, 1)), 12)  # periodic, symmetric
     (2.0, 0.0)
     """
+
+    period: float
+    breakpoints: np.ndarray
 
     def __init__(self, angles, values, period: float = 2 * math.pi, degree: int = 3) -> None:
         x = finite_array("angles", angles)

@@ -32,6 +32,7 @@ import ast
 import io
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
@@ -62,7 +63,7 @@ _FUNCTIONS = {
     for name in ("sin", "cos", "tan", "exp", "log", "sqrt", "abs", "arctan", "sinh", "cosh", "tanh")
 }
 _CONSTANTS = {"pi": math.pi, "e": math.e}
-_ALLOWED = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Load)
+_ALLOWED: tuple[type[ast.AST], ...] = (ast.Expression, ast.BinOp, ast.UnaryOp, ast.Load)
 _ALLOWED += (ast.Add, ast.Sub, ast.Mult, ast.Div, ast.Pow, ast.USub, ast.UAdd)
 
 
@@ -136,7 +137,7 @@ def _chain(node) -> list:
     """The operands and operators of a left-leaning chain of binary operations of one precedence
     (``a + b - c + ...`` or ``a * b / c ...``), first operand first, without recursion."""
     group = (ast.Add, ast.Sub) if isinstance(node.op, ast.Add | ast.Sub) else (ast.Mult, ast.Div)
-    out = []
+    out: list[tuple[ast.operator | None, ast.expr]] = []
     while isinstance(node, ast.BinOp) and isinstance(node.op, group):
         out.append((node.op, node.right))
         node = node.left
@@ -160,14 +161,14 @@ def _depth(node, expr: str) -> None:
 def _evaluate(node, phi: np.ndarray):
     """The value of a checked expression node at ``phi`` (float64 numpy throughout)."""
     if isinstance(node, ast.Constant):
-        return np.float64(node.value)
+        return np.float64(cast(float, node.value))  # a number: the syntax check admits no other constant
     if isinstance(node, ast.Name):
         return phi if node.id == "phi" else np.float64(_CONSTANTS[node.id])
     if isinstance(node, ast.UnaryOp):
         value = _evaluate(node.operand, phi)
         return -value if isinstance(node.op, ast.USub) else +value
     if isinstance(node, ast.Call):
-        return _FUNCTIONS[node.func.id](_evaluate(node.args[0], phi))
+        return _FUNCTIONS[cast(ast.Name, node.func).id](_evaluate(node.args[0], phi))
     if isinstance(node.op, ast.Pow):
         return np.power(_evaluate(node.left, phi), _evaluate(node.right, phi))
     (_, first), *rest = _chain(node)
@@ -347,6 +348,6 @@ def size_pair(pair: GearPair, teeth: int | None, module: float | None, centre_di
     n1 = pair.lobes[0]
     if not isinstance(teeth, int) or teeth < n1 or teeth % n1:
         raise SpecError.out_of_range("teeth", teeth, f"a positive multiple of the driver's {n1} lobes")
-    m = finite_positive("module", module)
+    m = finite_positive("module", cast(float, module))  # two of three are given: here teeth and module
     pair = pair.scaled(teeth * math.pi * m / pair.driver.perimeter)
     return pair.sized(teeth=teeth)
