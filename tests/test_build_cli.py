@@ -232,7 +232,7 @@ def test_check_command_reruns_the_checks_on_disk(built, capsys):
     files by its part items, ``transplanter.pytest_plugin``; gear pairs' lines below and in
     ``test_check_command_catches_a_tampered_part``)."""
     folder = built / "fourbar_seed001"
-    assert cli.main(["check", str(folder)]) == 0
+    assert cli.main(["check", "--run-script", str(folder)]) == 0
     out = capsys.readouterr().out
     assert "eight_row_arm: 2 data files reproduced by the script" in out
     assert "eight_row_arm_plates [tip_path]: tip path of the four-bar rebuilt from the plates: max deviation" in out
@@ -264,7 +264,7 @@ def test_check_reports_a_rebuilt_train_and_an_expected_finding(monkeypatch, caps
     report = {
         "family": "planetary",
         "script": "",
-        "script_changed": False,
+        "script_run": True,
         "files": {},
         "parts": {
             "teeth": {
@@ -280,7 +280,7 @@ def test_check_reports_a_rebuilt_train_and_an_expected_finding(monkeypatch, caps
         "problems": [],
         "expected": False,
     }
-    monkeypatch.setattr(families, "check_families", lambda folders, script, jobs: iter([report]))
+    monkeypatch.setattr(families, "check_families", lambda folders, script, jobs, run_script, timeout: iter([report]))
     (tmp_path / "manifest.json").write_text("{}")
     assert cli.main(["check", str(tmp_path)]) == 0
     out = capsys.readouterr().out
@@ -304,21 +304,22 @@ def family():
 """
 
 
-def test_check_command_catches_a_tampered_part(tmp_path, capsys):
+def test_check_command_catches_a_tampered_part(tmp_path, capsys, monkeypatch):
     from transplanter import dxf
 
+    monkeypatch.chdir(tmp_path)  # the project: --run-script runs scripts from inside it only
     script = tmp_path / "small.py"
     script.write_text(SMALL_PAIR)
     assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 0
     fam = tmp_path / "out" / "small"
-    assert cli.main(["check", str(fam)]) == 0
+    assert cli.main(["check", "--run-script", str(fam)]) == 0
     out = capsys.readouterr().out
     for source in ("outline", "dxf", "stl"):
         assert f"pair [{source}]: overlap 0 mm² (fouling 0), TE max" in out
     path = fam / "pair.driven.dxf"
     moved = shapely.affinity.rotate(dxf.read_section(path.read_bytes()), 2.0, origin=(0, 0))  # 2 deg off
     path.write_bytes(dxf.dxf_bytes(dxf.DxfPart("pair.driven", moved)))
-    assert cli.main(["check", str(fam)]) == 1
+    assert cli.main(["check", "--run-script", str(fam)]) == 1
     out = capsys.readouterr().out
     assert "file pair.driven.dxf: changed since the build" in out
     assert "pair: PROBLEM: dxf: the teeth interfere at the pitch point" in out and "FAILED" in out
@@ -326,10 +327,12 @@ def test_check_command_catches_a_tampered_part(tmp_path, capsys):
     manifest = json.loads((fam / "manifest.json").read_text())
     manifest["parts"]["pair"] = {"error": "GeometryError: made up"}
     (fam / "manifest.json").write_text(json.dumps(manifest))
-    assert cli.main(["check", str(fam)]) == 1
-    assert "pair: PROBLEM: nothing to check: its build failed: GeometryError: made up" in capsys.readouterr().out
+    assert cli.main(["check", "--run-script", str(fam)]) == 1
+    out = capsys.readouterr().out
+    assert "pair: PROBLEM: nothing to check: its build failed: GeometryError: made up" in out
+    assert "file manifest.json: edited since the build (its seal, manifest_sha256, differs)" in out
     (fam / "manifest.json").unlink()
-    assert cli.main(["check", str(fam)]) == 2
+    assert cli.main(["check", "--run-script", str(fam)]) == 2
     assert "is not a built family folder (no manifest.json)" in capsys.readouterr().err
 
 
@@ -389,28 +392,30 @@ def family():
 """
 
 
-def test_a_new_kind_of_study_needs_only_its_module_and_script(tmp_path, capsys):
+def test_a_new_kind_of_study_needs_only_its_module_and_script(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
     script = tmp_path / "plates.py"
     script.write_text(NEW_KIND)
     assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 0
     assert (tmp_path / "out" / "plates" / "square.txt").read_text() == "16.000000\n"
-    assert cli.main(["check", str(tmp_path / "out" / "plates")]) == 0
+    assert cli.main(["check", "--run-script", str(tmp_path / "out" / "plates")]) == 0
     assert cli.main(["analyse", str(script)]) == 0
     out = capsys.readouterr().out
     line = next(x for x in out.splitlines() if "plate area" in x)
     assert "16.0000" in line and "16.00" in line.split("16.0000")[1]  # value, then the published value
     (tmp_path / "out" / "plates" / "square.txt").write_text("15.000000\n")  # a made file gone wrong
-    assert cli.main(["check", str(tmp_path / "out" / "plates")]) == 1
+    assert cli.main(["check", "--run-script", str(tmp_path / "out" / "plates")]) == 1
     assert "area 15.0 is not 16.0" in capsys.readouterr().out
     script.write_text(NEW_KIND.replace('(PlateStudy("square", 4.0),)', '("square",)'))
     assert cli.main(["build", str(script), "-o", str(tmp_path / "out")]) == 2
     assert "parts must be studies (transplanter.families.Study" in capsys.readouterr().err
 
 
-def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys):
+def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys, monkeypatch):
     """Design models and problems live beside the part script in ``_*.py``: the script imports
     them (its folder is importable), the builder does not take them for part scripts, an edit
-    is read afresh, and ``check`` notes that the design changed since the build."""
+    is read afresh, and ``check --run-script`` refuses to run a design that changed since the build."""
+    monkeypatch.chdir(tmp_path)
     parts = tmp_path / "parts"
     parts.mkdir()
     design = parts / "_plate.py"
@@ -436,7 +441,7 @@ def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys):
     assert list(manifest["script"]["modules"]) == ["_plate.py"]
     assert cli.main(["optimise", str(design), "--seed", "1", "--maxiter", "5", "--popsize", "4"]) == 0
     assert json.loads(capsys.readouterr().out)["parameters"]["side"] == pytest.approx(4.0, abs=0.5)
-    assert cli.main(["check", str(out / "plates")]) == 0
+    assert cli.main(["check", "--run-script", str(out / "plates")]) == 0
     assert "changed since the build" not in capsys.readouterr().out
     design.write_text(design.read_text().replace("SIDE = 4.0", "SIDE = 5.0"))
     assert load_family(parts / "plates.py").parts[0].side == 5.0
@@ -450,10 +455,11 @@ def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys):
         assert sys.modules["_plate"] is stale  # put back as it was
     finally:
         del sys.modules["_plate"]
-    assert cli.main(["check", str(out / "plates")]) == 1
-    report = capsys.readouterr().out
-    assert "a module beside it that it imports) changed since the build" in report
-    assert "area 16.0 is not 25.0" in report
+    assert cli.main(["check", "--run-script", str(out / "plates")]) == 2
+    assert "the module '_plate.py' beside it is missing or is not the one the build imported" in (
+        capsys.readouterr().err
+    )
+    assert cli.main(["check", str(out / "plates")]) == 0  # its files are as built: no code needed for that
     (parts / "plates.py").write_text("from _missing import SIDE\n")
     with pytest.raises(PartScriptError, match=r"plates.py:1: ModuleNotFoundError: No module named '_missing'"):
         load_family(parts / "plates.py")

@@ -45,7 +45,8 @@ def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys)
     assert _files(again / "pair") == _files(folder)
 
 
-def test_a_four_lobed_ring_and_its_planet_from_the_cli(tmp_path, capsys):
+def test_a_four_lobed_ring_and_its_planet_from_the_cli(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
     args = ["pair", "ellipse:0.05:2", "--internal", "--driven-lobes", "4", "--teeth", "24", "--module", "1.5"]
     assert cli.main([*args, "-o", str(tmp_path)]) == 0
     assert "internal pair of 'ellipse:0.05:2': 24/48 teeth, m = 1.5 mm, a = 17.9438 mm, shaper cutter z0 = 14" in (
@@ -55,7 +56,7 @@ def test_a_four_lobed_ring_and_its_planet_from_the_cli(tmp_path, capsys):
     asm = manifest["parts"]["pair"]["results"]["assembly"]
     assert asm["kind"] == "internal" and asm["ring"] == "driven" and asm["teeth"] == [24, 48]
     assert asm["model"]["max_overlap_mm3"] == 0.0
-    assert cli.main(["check", str(tmp_path / "pair")]) == 0
+    assert cli.main(["check", "--run-script", str(tmp_path / "pair")]) == 0
     check = capsys.readouterr().out
     assert "pair [dxf]: overlap 0 mm² (fouling 0)" in check and "pair [stl]: overlap 0 mm² (fouling 0)" in check
 
@@ -70,16 +71,57 @@ def test_the_ratio_of_a_transmission_function_is_its_exact_derivative():
     assert abs(float(pair.ratio(0.0)) - 0.53) < 1e-12
 
 
-def test_ratio_samples_are_scaled_to_close_and_say_by_how_much(tmp_path):
+def test_ratio_samples_are_scaled_to_close_only_when_asked_and_say_by_how_much(tmp_path):
     deg = np.arange(0, 360, 5.0)
     csv = tmp_path / "ratio.csv"
     rows = "\n".join(f"{d:g},{1.001 * (1 + 0.1 * math.cos(math.radians(d))):.12f}" for d in deg)
     csv.write_text("phi_deg,ratio\n" + rows + "\n")
-    found = transmission(str(csv))
+    with pytest.raises(SpecError, match=r"does not close: it turns the driven gear 1\.001\d* turns per driver lobe"):
+        transmission(str(csv))
+    found = transmission(str(csv), scale_to_close=True)
     assert abs(found.closure_scale * 1.001 - 1) < 1e-4  # the samples' mean was 1.001
     assert found.pair.lobes == (1, 1) and found.pair.closure_error < 1e-9
     pair, sizing = size_pair(found.pair, 30, 2.0, None)
     assert sizing.teeth == (30, 30) and abs(pair.driver.perimeter - 30 * math.pi * 2.0) < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("spec", "lobes", "ratio"),
+    [
+        ("3*phi", (3, 1), 3.0),  # a constant ratio: circles, 3 driver "lobes" to 1
+        ("phi/4", (1, 4), 0.25),
+        ("0.4*phi", (2, 5), 0.4),
+        ("2*phi + 0.3*sin(2*phi)", (2, 1), 2.6),  # closes: the law repeats every half turn
+    ],
+)
+def test_a_requested_ratio_is_built_exactly(spec, lobes, ratio):
+    """A constant ratio is a circle pair at that ratio (was: 1:1, silently); a law that closes is
+    taken as it is."""
+    found = transmission(spec)
+    assert found.pair.lobes == lobes and found.closure_scale == 1.0
+    assert abs(float(found.pair.ratio(0.0)) - ratio) < 1e-12 and found.pair.closure_error < 1e-9
+
+
+@pytest.mark.parametrize(
+    ("spec", "message"),
+    [
+        ("2*phi + 0.3*sin(phi)", r"turns the driven gear 2 turns per driver lobe .* scaled by 0\.5 it would close"),
+        ("1.5*phi + 0.1*sin(phi)", r"turns the driven gear 1\.5 turns per driver lobe"),
+        ("2.718281828459045*phi", r"not a fraction p/q with p, q <= 1000"),
+    ],
+)
+def test_a_ratio_that_cannot_be_built_exactly_is_refused(spec, message):
+    with pytest.raises(SpecError, match=message):
+        transmission(spec)
+
+
+def test_a_constant_ratio_csv_is_its_circle_pair(tmp_path):
+    csv = tmp_path / "five.csv"
+    csv.write_text("".join(f"{d},5\n" for d in range(0, 360, 10)))
+    found = transmission(str(csv))
+    assert found.pair.lobes == (5, 1) and abs(float(found.pair.ratio(1.0)) - 5.0) < 1e-12
+    pair, sizing = size_pair(found.pair, 50, 1.0, None)
+    assert sizing.teeth == (50, 10)
 
 
 @pytest.mark.parametrize(

@@ -14,7 +14,7 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "transplanter"
 
 #: the layers, lowest first: a module imports only from its own layer or below (README, Layout)
 LAYERS = (
-    ("errors", "tolerances", "precision", "extrema", "proportions"),
+    ("errors", "tolerances", "precision", "extrema", "proportions", "inputs"),
     ("contact", "linkage", "pitch", "planetary", "agronomy", "objectives", "backlash", "cutter", "cams", "optimise"),
     ("arcs", "machining", "interference", "tooth_spaces", "teeth", "pair_gate", "cutter_choice", "solids"),
     ("mesh_engine", "mesh_refine", "meshing", "train_rebuild", "follower", "validate"),

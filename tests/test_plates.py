@@ -100,7 +100,7 @@ def test_check_catches_a_moved_hole(tmp_path, built, capsys):
     hole = max(holes, key=lambda e: np.mean([p[0] for p in e.get_points("xy")]))  # C, 200 mm from B
     hole.set_points([(x + 0.01, y, b) for x, y, b in hole.get_points("xyb")], format="xyb")
     doc.saveas(path)
-    assert cli.main(["check", str(folder)]) == 1
+    assert cli.main(["check", "--run-script", str(folder)]) == 1
     text = capsys.readouterr().out
     assert "PROBLEM: the four-bar rebuilt from the plates leaves the designed tip path by" in text
 

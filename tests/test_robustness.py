@@ -333,7 +333,8 @@ def family():
 """
 
 
-def test_check_reports_damaged_files_and_goes_on(tmp_path, capsys):
+def test_check_reports_damaged_files_and_goes_on(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
     out = tmp_path / "out"
     (tmp_path / "small.py").write_text(PAIR)
     (tmp_path / "arms.py").write_text(ARM.format(parts=[("a", 60.0)]))
@@ -342,7 +343,7 @@ def test_check_reports_damaged_files_and_goes_on(tmp_path, capsys):
         data = (out / "small" / name).read_bytes()
         (out / "small" / name).write_bytes(data[: len(data) // 3])
     (out / "arms" / "manifest.json").write_text('{"family": "arms", "parts": [1, 2')
-    assert cli.main(["check", str(out)]) == 1
+    assert cli.main(["check", "--run-script", str(out)]) == 1
     text = capsys.readouterr().out
     assert "file manifest.json: damaged" in text
     assert "file p.driver.dxf: changed since the build" in text and "file p.driven.stl: changed" in text

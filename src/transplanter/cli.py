@@ -8,9 +8,11 @@ planetary trains (beside published values) in a script and, with ``--plots DIR``
 plots. ``transplanter optimise parts/x.py --seed S`` runs differential evolution on the script's
 ``problem()`` with a progress line per generation and prints the best parameters as JSON.
 ``transplanter check exports/<family>`` (or ``transplanter check`` for every family in ``exports/``)
-re-runs the meshing and follower checks on the files already on disk, recomputes the analyses and
-compares their data files, and verifies every file's SHA-256 against the manifest; it exits 1 if a
-part that must mesh does not, or a file is missing, changed or stale. Exit status: 0 on success, 1
+verifies every file's SHA-256 against the manifest and the manifest's seal, and re-reads the shop
+files — running no code from the folder; with ``--run-script`` it also re-runs the meshing,
+follower and rebuild proofs on the files and recomputes the analyses, with the part script only if
+it lies in the project and its SHA-256 is the manifest's. It exits 1 if a part that must mesh does
+not, or a file is missing, changed or stale. Exit status: 0 on success, 1
 if any part failed or a file could not be written (disk full, permissions, another build writing the
 same folder), 2 on bad input (message on stderr). ``transplanter pair "phi - 0.08*sin(2*phi)" --teeth 24
 --module 1.5 -o DIR`` makes one gear pair from its transmission (an expression in phi, a ratio CSV or
@@ -26,7 +28,7 @@ import os
 import sys
 from pathlib import Path
 
-from transplanter import __version__
+from transplanter import __version__, inputs
 from transplanter.errors import ExportError, TransplanterError
 
 __all__ = ["main"]
@@ -49,7 +51,7 @@ def _cmd_build(args: argparse.Namespace) -> int:
         print(f"no part scripts found in {args.parts}", file=sys.stderr)
         return 2
     start = time.perf_counter()
-    families = [load_family(s) for s in scripts]
+    families = [load_family(s, args.timeout) for s in scripts]
     total = sum(len(f.parts) for f in families)
     done = [0]
 
@@ -74,7 +76,7 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
     from transplanter.export import atomic_write
     from transplanter.families import load_family
 
-    fam = load_family(args.script)
+    fam = load_family(args.script, args.timeout)
     tables = [(study, table) for study in fam.parts for table in study.tables()]
     if not tables:
         print(f"{args.script}: family {fam.name!r} has no study with a table to analyse", file=sys.stderr)
@@ -103,7 +105,7 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     from transplanter.optimise import Problem, optimise
 
     path = Path(args.script)
-    fn = run_script(path).get("problem")
+    fn = run_script(path, timeout=args.timeout).get("problem")
     if not callable(fn):
         raise PartScriptError(
             f"{path}: an optimisable script (a part script or a design module beside one) must define "
@@ -151,8 +153,13 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
     folders = []
     for folder in map(Path, args.folders or ["exports"]):
+        if folder.is_symlink():
+            print(
+                f"transplanter: error: {folder} is a symbolic link: a checked folder is not followed", file=sys.stderr
+            )
+            return 2
         if folder.is_dir() and not (folder / "manifest.json").exists():  # a folder of families
-            inside = sorted(p for p in folder.iterdir() if (p / "manifest.json").is_file())
+            inside = sorted(p for p in folder.iterdir() if not p.is_symlink() and (p / "manifest.json").is_file())
             if not inside:
                 print(
                     f"transplanter: error: {folder} is not a built family folder (no manifest.json), "
@@ -164,19 +171,24 @@ def _cmd_check(args: argparse.Namespace) -> int:
         else:
             folders.append(folder)
     ok = True
-    reports = check_families(folders, args.script, jobs=_default_jobs())
+    reports = check_families(
+        folders, args.script, jobs=_default_jobs(), run_script=args.run_script, timeout=args.timeout
+    )
     for folder, rep in zip(folders, reports, strict=True):
         design = f", design from {rep['script']}" if rep["script"] else ""
         print(f"{rep['family']}  ({folder}{design})")
-        if rep["script_changed"]:
+        if not rep["script_run"]:
             print(
-                "  note: the part script (or a module beside it that it imports) changed since the build; "
-                "checking against its current design"
+                "  files and digests only: no code from the folder was run (--run-script re-runs the proofs with "
+                "the part script, if its SHA-256 is the manifest's)"
             )
         for fname, problem in sorted(rep["files"].items()):
             print(f"  file {fname}: {problem}")
         for name, part in rep["parts"].items():
             res = part["results"]
+            if "shop_files_reread" in res:
+                n = res["shop_files_reread"]
+                print(f"  {name}: {n} shop file{'s' if n != 1 else ''} re-read (DXF, STL)")
             if "data_files_reproduced" in res:
                 n = res["data_files_reproduced"]
                 print(f"  {name}: {n} data file{'s' if n != 1 else ''} reproduced by the script")
@@ -223,6 +235,7 @@ def _cmd_pair(args: argparse.Namespace) -> int:
     from transplanter.families.gear_pair import gear_pair
 
     names = ("internal", "teeth", "module", "centre_distance", "driven_lobes", "ring", "backlash", "cutter_teeth")
+    names += ("scale_to_close",)
     options = {k: getattr(args, k) for k in (*names, "rack", "width", "name")}
     manifest = gear_pair(args.transmission, args.output, **options)
     folder = Path(args.output) / manifest["family"]
@@ -257,7 +270,71 @@ def _made_line(r: dict) -> str:
     )
 
 
+def _timeout(text: str) -> float:
+    """``--timeout`` in seconds, checked by the input layer."""
+    try:
+        value = float(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of seconds") from exc
+    try:
+        return inputs.timeout(value)
+    except TransplanterError as exc:
+        raise argparse.ArgumentTypeError(str(exc)) from exc
+
+
+#: ``pair``'s options that take a value (the next argument is that value, whatever it looks like)
+_PAIR_VALUES = {"--teeth", "--module", "--centre-distance", "--ring", "--driven-lobes", "--backlash"}
+_PAIR_VALUES |= {"--cutter-teeth", "--width", "--name", "-o", "--output"}
+
+
+def _expression_last(argv: list[str]) -> list[str]:
+    """``pair``'s transmission moved behind ``--`` when it starts with ``-`` (``"-0.1*sin(phi) + phi"``):
+    argparse would take it for an option. Only what cannot be an option moves (it has a space, a
+    bracket, an operator or ``phi`` past its dash)."""
+    if not argv or argv[0] != "pair" or "--" in argv:
+        return argv
+    out, moved, k = [argv[0]], [], 1
+    while k < len(argv):
+        a = argv[k]
+        if a in _PAIR_VALUES:
+            out += argv[k : k + 2]
+            k += 2
+            continue
+        body = a.lstrip("-")
+        if a.startswith("-") and not a.startswith("--") and any(c in body for c in " ()*+/^") | ("phi" in body):
+            moved.append(a)
+        else:
+            out.append(a)
+        k += 1
+    return [*out, "--", *moved] if moved else out
+
+
 def main(argv: list[str] | None = None) -> int:
+    """The command line; exit 0 (done), 1 (a part failed or a file could not be written), 2 (bad
+    input, named). Anything else — a bug — is "internal error, please report" with a log file of its
+    traceback, exit 1: never a bare traceback."""
+    try:
+        return _main(argv)
+    except KeyboardInterrupt:
+        print("transplanter: interrupted", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug: said as one, its traceback kept for the report
+        import tempfile
+        import time
+        import traceback
+
+        stamp = time.strftime("%Y%m%d-%H%M%S")
+        log = Path(tempfile.gettempdir()) / f"transplanter-internal-error-{stamp}-{os.getpid()}.log"
+        try:
+            log.write_text("".join(traceback.format_exception(exc)))
+            where = f"the traceback is in {log}"
+        except OSError:
+            where = "(its traceback could not be written)"
+        print(f"transplanter: internal error — please report it: {type(exc).__name__}: {exc}; {where}", file=sys.stderr)
+        return 1
+
+
+def _main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="transplanter", description=__doc__.split("\n")[0])
     parser.add_argument("--version", action="version", version=f"transplanter {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
@@ -280,7 +357,12 @@ def main(argv: list[str] | None = None) -> int:
     o.add_argument("--scheduler", metavar="ADDRESS", help="evaluate candidates on this Dask cluster (tcp://host:port)")
     c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
     c.add_argument("folders", nargs="*", help="built family folders, or a folder of them (default: exports)")
-    c.add_argument("--script", help="part script (default: the one recorded in the manifest)")
+    c.add_argument(
+        "--run-script",
+        action="store_true",
+        help="re-run the proofs with the part script: only one inside the project whose SHA-256 is the manifest's",
+    )
+    c.add_argument("--script", help="with --run-script: the part script (default: the one the manifest records)")
     p = sub.add_parser(
         "pair",
         help="one gear pair from a transmission ratio: shop files, meshing proof and report",
@@ -300,8 +382,21 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--rack", action="store_true", help="cut with a rack cutter (hob): external, convex curves")
     p.add_argument("--width", type=float, default=10.0, help="face width, mm (default 10)")
     p.add_argument("--name", default="pair", help="folder and part name (default: pair)")
+    p.add_argument(
+        "--scale-to-close",
+        action="store_true",
+        help="scale a ratio that does not close by the factor that closes it (default: refuse it, naming the factor)",
+    )
     p.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")
-    args = parser.parse_args(argv)
+    for command in (b, a, o, c):
+        command.add_argument(
+            "--timeout",
+            type=_timeout,
+            default=inputs.SCRIPT_TIMEOUT_S,
+            metavar="SECONDS",
+            help=f"time limit for loading a part script (default {inputs.SCRIPT_TIMEOUT_S:g} s)",
+        )
+    args = parser.parse_args(_expression_last(list(sys.argv[1:] if argv is None else argv)))
     try:
         if args.command == "build":
             if args.jobs is not None and args.jobs < 1:

@@ -70,8 +70,14 @@ class ExportError(TransplanterError, OSError):
 
 
 def finite_array(name: str, values, ndim: int = 1) -> np.ndarray:
-    """``values`` as a float array; SpecError naming ``name`` if it is not finite."""
+    """``values`` as a float array; SpecError naming ``name`` if it is not numbers (text such as
+    ``"40"`` is refused, not read as one) or not finite."""
     try:
+        raw = np.asarray(values)
+        if raw.dtype.kind in "USVb" or (
+            raw.dtype.kind == "O" and any(isinstance(v, str | bytes | bool) for v in raw.ravel())
+        ):
+            raise TypeError("text or booleans")
         arr = np.asarray(values, dtype=float)
     except (TypeError, ValueError) as exc:
         raise SpecError(f"{name} must be numbers, got {values!r}") from exc

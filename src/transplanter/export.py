@@ -89,6 +89,19 @@ def _fsync_dir(folder: Path) -> None:
         os.close(fd)
 
 
+def refuse_links(target: str | os.PathLike[str]) -> None:
+    """ExportError if the family folder ``target`` or anything the build keeps beside it (its
+    ``.previous``, ``.staging`` and ``.lock``) is a symbolic link: an export is written, swapped,
+    recovered and removed only where it is, never through a link into another folder."""
+    target = Path(target)
+    for path in (target, _beside(target, "previous"), _beside(target, "staging"), _beside(target, "lock")):
+        if path.is_symlink():
+            raise ExportError(
+                f"{path} is a symbolic link (to {os.readlink(path)}): transplanter never writes, recovers or "
+                "removes through a link — remove the link or choose another output folder"
+            )
+
+
 def interrupted_swap(target: str | os.PathLike[str]) -> Path | None:
     """The whole previous export when a build stopped between its two renames (the target is
     gone, ``.<name>.previous`` is there), else None; :func:`recover` puts it back."""
@@ -105,6 +118,7 @@ def recover(target: str | os.PathLike[str]) -> list[str]:
     in the target are removed.
     """
     target = Path(target)
+    refuse_links(target)
     done = []
     previous, staging = _beside(target, "previous"), _beside(target, "staging")
     try:
@@ -119,6 +133,8 @@ def recover(target: str | os.PathLike[str]) -> list[str]:
             done.append(f"removed the unfinished build {staging.name}")
         if target.is_dir():
             for tmp in sorted(target.glob(".*.tmp")):
+                if tmp.is_symlink() or not tmp.is_file():
+                    continue  # not a file a build half-wrote: left alone
                 tmp.unlink()
                 done.append(f"removed the half-written {tmp.name}")
     except OSError as exc:
@@ -146,12 +162,19 @@ class Transaction:
     (b'new', ['.fam.lock', 'fam'])
     """
 
-    def __init__(self, target: str | os.PathLike[str]):
+    def __init__(self, target: str | os.PathLike[str], beside: dict[str, bytes] | None = None):
         self.target = Path(target)
         self.staging = _beside(self.target, "staging")
         self._lock = None
+        #: files written beside the folder (``transplanter pair``'s part script) with the swap, under
+        #: the same lock: never one without the other
+        self.beside = dict(beside or {})
 
     def __enter__(self) -> Transaction:
+        refuse_links(self.target)
+        for name in self.beside:
+            if (self.target.parent / name).is_symlink():
+                raise ExportError(f"{self.target.parent / name} is a symbolic link: never written through")
         try:
             self.target.parent.mkdir(parents=True, exist_ok=True)
             self._lock = open(_beside(self.target, "lock"), "a+b")  # noqa: SIM115 - held until __exit__
@@ -180,10 +203,10 @@ class Transaction:
     def keep(self, name: str) -> bool:
         """Carry ``name`` over from the current export unchanged (a hard link, or a copy)."""
         src = self.target / name
-        if not src.is_file():
+        if src.is_symlink() or not src.is_file():  # a link is never carried over (nor followed)
             return False
         try:
-            os.link(src, self.staging / name)
+            os.link(src, self.staging / name, follow_symlinks=False)
         except OSError:
             shutil.copy2(src, self.staging / name)
         return True
@@ -194,6 +217,8 @@ class Transaction:
         if self.target.exists():
             os.rename(self.target, previous)
         os.rename(self.staging, self.target)
+        for name, data in sorted(self.beside.items()):
+            atomic_write(self.target.parent / name, data)
         _fsync_dir(self.target.parent)
         if previous.exists():
             shutil.rmtree(previous)

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import optimize
 
-from transplanter.errors import SpecError, TransplanterError, check_int
+from transplanter.errors import PartScriptError, SpecError, TransplanterError, check_int
 
 __all__ = ["Problem", "OptimisationResult", "optimise"]
 
@@ -57,10 +57,24 @@ class Problem:
                 raise SpecError.out_of_range(f"bounds of {name}", (lo, hi), "finite with low < high")
 
     def __call__(self, x: np.ndarray) -> float:
+        """The cost of ``x``: a TransplanterError (a design that cannot be built) or a non-finite
+        value is ``infeasible``; any other error, or a value that is not a number, is the cost
+        function's fault, said as such (PartScriptError)."""
+        at = [round(float(v), 6) for v in np.asarray(x, dtype=float)]
         try:
-            value = float(self.cost(np.asarray(x, dtype=float)))
+            raw = self.cost(np.asarray(x, dtype=float))
         except TransplanterError:
             return self.infeasible
+        except Exception as exc:  # the user's cost function: said as its error, with where
+            raise PartScriptError(
+                f"problem {self.name!r}: its cost function raised {type(exc).__name__} at {at}: {exc}"
+            ) from exc
+        try:
+            value = float(raw)
+        except (TypeError, ValueError) as exc:
+            raise PartScriptError(
+                f"problem {self.name!r}: its cost function returned {raw!r} at {at}, not a number"
+            ) from exc
         return value if math.isfinite(value) else self.infeasible
 
 
@@ -96,7 +110,7 @@ def _evaluator(workers: int, scheduler: str | None):
             client = Client(cluster)
         else:
             client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError) as exc:
+    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, or not an address
         if cluster is not None:
             cluster.close()
         where = scheduler or f"{workers} local workers"
@@ -111,6 +125,18 @@ def _evaluator(workers: int, scheduler: str | None):
         client.close()
         if cluster is not None:
             cluster.close()
+
+
+@contextmanager
+def _cost_errors():
+    """The cost function's own error as raised: scipy wraps a ValueError from it (ours are) in a
+    RuntimeError about "the map-like callable"."""
+    try:
+        yield
+    except RuntimeError as exc:
+        if isinstance(exc.__cause__, TransplanterError):
+            raise exc.__cause__ from None
+        raise
 
 
 def optimise(
@@ -145,7 +171,7 @@ def optimise(
         if progress is not None:
             progress(len(history), float(intermediate_result.fun), np.asarray(intermediate_result.x))
 
-    with _evaluator(workers, scheduler) as evaluate:
+    with _evaluator(workers, scheduler) as evaluate, _cost_errors():
         res = optimize.differential_evolution(
             problem,
             bounds=[(lo, hi) for _, lo, hi in problem.variables],
@@ -158,6 +184,11 @@ def optimise(
             x0=x0 if x0 is not None else (np.asarray(problem.x0) if problem.x0 is not None else None),
             updating=(updating or "immediate") if evaluate == 1 else "deferred",
             workers=evaluate,
+        )
+    if not float(res.fun) < problem.infeasible:
+        raise SpecError(
+            f"problem {problem.name!r}: no feasible design in {int(res.nfev)} evaluations — every cost was NaN, "
+            f"infinite, a design that cannot be built, or the infeasible value {problem.infeasible:g}"
         )
     return OptimisationResult(
         tuple(float(v) for v in res.x),

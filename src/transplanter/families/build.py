@@ -6,10 +6,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+from transplanter import inputs
 from transplanter.errors import ExportError, PartScriptError
 from transplanter.export import Transaction, json_bytes
 from transplanter.families import workers
-from transplanter.families.manifest import previous_manifest, script_record, sha256
+from transplanter.families.manifest import plain_name, previous_manifest, script_record, seal, sha256
 from transplanter.families.scripts import Family
 from transplanter.families.study import Built
 from transplanter.report import family_report
@@ -22,6 +23,7 @@ def build_family(
     out_dir: str | Path,
     progress: Callable[[str], None] | None = None,
     outcomes: dict[str, Built | str] | None = None,
+    beside: dict[str, bytes] | None = None,
 ) -> dict:
     """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest.
 
@@ -29,17 +31,24 @@ def build_family(
     results, files with SHA-256, or its error (:func:`workers.part_outcome`). ``manifest["ok"]`` is
     False if any part failed. ``outcomes`` (part name → :func:`workers.part_outcome`) are parts built
     elsewhere, e.g. in other processes (:func:`build_families`); the parts are then only written.
+    ``beside`` are files written next to the folder with it, under its lock (``transplanter pair``'s
+    part script; the manifest records a script given there by those bytes).
 
     The folder is written as one transaction (``export.Transaction``): it is the old export
     until the new one is complete, then the new one; a failing part keeps its previous files
     (listed under ``previous_files``), files of parts no longer in the script are gone, and a
     second build of the same folder meanwhile is refused.
     """
-    root = Path(out_dir) / family.name
+    root = inputs.folder("out_dir", out_dir) / family.name
     manifest: dict = {"family": family.name, "description": family.description, "parts": {}, "ok": True}
     if family.script is not None:
-        manifest["script"] = script_record(family.script, family.modules)
-    with Transaction(root) as tx:
+        written = (
+            (beside or {}).get(Path(family.script).name)
+            if Path(family.script).parent == root.parent.resolve()
+            else None
+        )
+        manifest["script"] = script_record(family.script, family.modules, written)
+    with Transaction(root, beside) as tx:
         old = previous_manifest(root)
         for part in family.parts:
             if outcomes is None:
@@ -58,7 +67,7 @@ def build_family(
             failed: dict = {"error": outcome}
             before = old.get("parts", {}).get(part.name, {})
             kept = before.get("files", before.get("previous_files", {}))
-            kept = {f: h for f, h in sorted(kept.items()) if tx.keep(f)}
+            kept = {f: h for f, h in sorted(kept.items()) if plain_name(f) and tx.keep(f)}
             if kept:
                 failed["previous_files"] = kept
             manifest["parts"][part.name] = failed
@@ -66,11 +75,11 @@ def build_family(
         report = family_report(manifest)
         tx.write("report.html", report)
         manifest["report"] = {"report.html": sha256(report)}
+        manifest = seal(manifest)
         tx.write("manifest.json", json_bytes(manifest))
     return manifest
 
 
-#: families being built by :func:`build_families`, inherited by forked workers (by name)
 def build_families(
     families: list[Family],
     out_dir: str | Path,

@@ -29,13 +29,14 @@ import inspect
 import math
 from pathlib import Path
 
+from transplanter import inputs
 from transplanter.cutter import RackCutter, ShaperCutter
 from transplanter.cutter_choice import first_cutter
 from transplanter.errors import SpecError, check_int, check_number
-from transplanter.export import atomic_write
 from transplanter.families.build import build_family
 from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.making import Making
+from transplanter.families.manifest import previous_manifest
 from transplanter.families.scripts import Family
 from transplanter.pitch import GearPair
 from transplanter.pitch.transmission import size_pair, transmission
@@ -70,6 +71,7 @@ def pair_family(
     rack: bool = False,
     width: float = DEFAULT_WIDTH,
     name: str = "pair",
+    scale_to_close: bool = False,
 ) -> Family:
     """The family of one toothed pair of ``spec`` (the design; :func:`gear_pair` builds it).
 
@@ -98,14 +100,17 @@ def pair_family(
         Face width, mm.
     name : str
         The family's (folder's) and the part's name.
+    scale_to_close : bool
+        A ratio that does not close is scaled by the factor that closes it (samples never quite
+        close) instead of refused; the description says by how much. A constant ratio is built
+        as its pair of circles either way.
     """
     check_number("width", width, 0.0, 1000.0, low_open=True, unit="mm")
-    if not isinstance(internal, bool):
-        raise SpecError.out_of_range("internal", internal, "True or False")
-    if not isinstance(rack, bool):  # a truthy string ('no') must not select the rack cutter
-        raise SpecError.out_of_range("rack", rack, "True or False")
+    inputs.boolean("internal", internal)
+    inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
+    inputs.boolean("scale_to_close", scale_to_close)
     mesh = "internal" if internal else "external"
-    found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring)
+    found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring, scale_to_close=scale_to_close)
     pair, sizing = size_pair(found.pair, teeth, module, centre_distance)
     if rack:
         if cutter_teeth is not None:
@@ -128,11 +133,13 @@ def pair_family(
     return Family(name, description, (study,))
 
 
+#: how a part script written by :func:`gear_pair` says so (it replaces only such a script)
+SCRIPT_MARK = "Written by `transplanter pair`"
 #: the part script :func:`gear_pair` leaves beside the folder: the call, stated once
 SCRIPT = '''"""{description}
 
 Written by `transplanter pair`: edit it and rebuild with `transplanter build {script} -o .`
-(from this folder); `transplanter check {folder}` re-runs the meshing proof on the files.
+(from this folder); `transplanter check --run-script {folder}` re-runs the meshing proof on the files.
 """
 
 from transplanter.families.gear_pair import pair_family
@@ -148,15 +155,37 @@ def gear_pair(spec: str, out: str | Path, **options) -> dict:
     ``<out>/<name>.py`` that states the call (rebuild or grow it like any part script), and the
     family built from it into ``<out>/<name>/`` — shop files, meshing proof, ``report.html``,
     ``manifest.json``. Returns the manifest."""
+    out = inputs.folder("out", out)
     family = pair_family(spec, **options)  # bad input fails here, before anything is written
-    out = Path(out)
     if Path(spec).suffix.lower() == ".csv":
         spec = str(Path(spec).resolve())
     defaults = {k: p.default for k, p in inspect.signature(pair_family).parameters.items()}
     stated = {k: v for k, v in sorted(options.items()) if v != defaults.get(k)}
     call = "".join(f"\n        {a}," for a in [repr(spec), *(f"{k}={v!r}" for k, v in stated.items())]) + "\n    "
     script = out / f"{family.name}.py"
+    _refuse_foreign(out, family.name, script)
     description = family.description.replace('"""', "'''").replace("\\", "/")
     text = SCRIPT.format(description=description, script=script.name, folder=family.name, call=call)
-    atomic_write(script, text.encode())
-    return build_family(dataclasses.replace(family, script=str(script.resolve())), out)
+    # the script is written with the export, under its lock: never one without the other
+    fam = dataclasses.replace(family, script=str(script.resolve()))
+    return build_family(fam, out, beside={script.name: text.encode()})
+
+
+def _refuse_foreign(out: Path, name: str, script: Path) -> None:
+    """SpecError when ``out/<name>.py`` or ``out/<name>/`` belongs to something other than an earlier
+    ``transplanter pair`` of that name: a user's own script, another family's export."""
+    if script.is_symlink() or (script.exists() and SCRIPT_MARK not in script.read_text(errors="replace")):
+        raise SpecError(
+            f"{script} exists and was not written by transplanter pair: it is not replaced - choose another --name "
+            "or output folder"
+        )
+    folder = out / name
+    if folder.is_symlink() or (folder.exists() and not (folder / "manifest.json").is_file()):
+        raise SpecError(f"{folder} exists and is not an export of transplanter pair: choose another --name or folder")
+    if folder.exists():
+        recorded = Path(str(previous_manifest(folder).get("script", {}).get("path", "")))
+        if recorded.name != script.name or recorded.parent != out.resolve():
+            raise SpecError(
+                f"{folder} holds the export of {recorded.name or 'another family'}, not of an earlier transplanter "
+                f"pair {name!r}: it is not replaced - choose another --name or output folder"
+            )

@@ -1,5 +1,13 @@
 """A family's manifest: what a build records of its script, parts and files (SHA-256 each), and
-the check that a manifest read from disk has that shape before anything trusts it."""
+the check that a manifest read from disk has that shape before anything trusts it.
+
+A manifest is *data from the folder*: every file name in it must be a plain name of a file in
+that folder (no path, no ``..``, not absolute) before anything reads, hashes or keeps it; it is
+read only up to ``MAX_MANIFEST_BYTES`` and nesting Python's JSON reader can hold; and it carries
+its own digest (``manifest_sha256``, over everything else in it), so results edited by hand are
+told apart from the build's — a seal against edits, not a signature (whoever edits can reseal;
+``transplanter check --run-script`` recomputes the results themselves).
+"""
 
 from __future__ import annotations
 
@@ -7,34 +15,96 @@ import hashlib
 import json
 from pathlib import Path
 
-__all__ = ["check_manifest", "previous_manifest", "script_record", "sha256"]
+__all__ = [
+    "MAX_MANIFEST_BYTES",
+    "check_manifest",
+    "plain_name",
+    "previous_manifest",
+    "read_manifest",
+    "script_record",
+    "seal",
+    "seal_matches",
+    "sha256",
+]
+
+#: the largest manifest read, bytes (the seed-004 family's is 0.1 MB)
+MAX_MANIFEST_BYTES = 50_000_000
+SEAL = "manifest_sha256"
 
 
 def sha256(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def script_record(script: str, modules: tuple[str, ...]) -> dict:
+def plain_name(name: object) -> bool:
+    """True for the name of a file directly inside a folder: no separator, not ``.``/``..``,
+    not empty, no NUL."""
+    return (
+        isinstance(name, str)
+        and name not in ("", ".", "..")
+        and "/" not in name
+        and "\\" not in name
+        and "\0" not in name
+    )
+
+
+def script_record(script: str, modules: tuple[str, ...], data: bytes | None = None) -> dict:
     """The design a family was built from: its script and the modules beside it that it imported
-    (by file name), with SHA-256."""
-    out: dict = {"path": script, "sha256": sha256(Path(script).read_bytes())}
+    (by file name), with SHA-256 (of ``data`` for a script written with the export)."""
+    out: dict = {"path": script, "sha256": sha256(Path(script).read_bytes() if data is None else data)}
     if modules:
         out["modules"] = {Path(m).name: sha256(Path(m).read_bytes()) for m in sorted(modules)}
     return out
 
 
-def previous_manifest(root: Path) -> dict:
-    """The current export's manifest, or {} if there is none or it is damaged (``_check_manifest``)."""
+def _body(manifest: dict) -> bytes:
+    return json.dumps({k: v for k, v in manifest.items() if k != SEAL}, sort_keys=True).encode()
+
+
+def seal(manifest: dict) -> dict:
+    """``manifest`` with its digest over everything else in it (``manifest_sha256``)."""
+    return {**manifest, SEAL: sha256(_body(manifest))}
+
+
+def seal_matches(manifest: dict) -> bool | None:
+    """Whether the manifest is as its build sealed it (None: it carries no seal, an older build)."""
+    if SEAL not in manifest:
+        return None
+    return manifest[SEAL] == sha256(_body(manifest))
+
+
+def read_manifest(root: Path) -> dict:
+    """``root/manifest.json`` read and checked (:func:`check_manifest`); ValueError saying what is
+    wrong with it (too large, not JSON, nested too deep, not a family manifest), OSError if it
+    cannot be read. A manifest that is a symbolic link is not followed."""
+    path = root / "manifest.json"
+    if path.is_symlink():
+        raise ValueError("manifest.json is a symbolic link: not followed")
+    with open(path, "rb") as f:
+        data = f.read(MAX_MANIFEST_BYTES + 1)
+    if len(data) > MAX_MANIFEST_BYTES:
+        raise ValueError(f"manifest.json is larger than {MAX_MANIFEST_BYTES} bytes (limit)")
     try:
-        data = json.loads((root / "manifest.json").read_text())
-        check_manifest(data)
+        manifest = json.loads(data)
+    except RecursionError as exc:
+        raise ValueError("manifest.json is nested deeper than its reader can follow") from exc
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"manifest.json is not UTF-8 text ({exc.reason})") from exc
+    check_manifest(manifest)
+    return manifest
+
+
+def previous_manifest(root: Path) -> dict:
+    """The current export's manifest, or {} if there is none or it is damaged (:func:`read_manifest`)."""
+    try:
+        return read_manifest(root)
     except (OSError, ValueError):
         return {}
-    return data
 
 
 def check_manifest(manifest) -> None:
-    """ValueError naming what is wrong if ``manifest`` is not a family manifest."""
+    """ValueError naming what is wrong if ``manifest`` is not a family manifest: parts are records,
+    their files tables of plain file names to SHA-256 digests, the script a record."""
     if not isinstance(manifest, dict) or not isinstance(manifest.get("parts"), dict):
         raise ValueError("not a family manifest: no 'parts' table")
     for name, rec in manifest["parts"].items():
@@ -44,5 +114,14 @@ def check_manifest(manifest) -> None:
             files = rec.get(key, {})
             if not isinstance(files, dict) or not all(isinstance(v, str) for v in files.values()):
                 raise ValueError(f"part {name!r}: {key} is not a table of SHA-256 digests")
+            bad = [f for f in files if not plain_name(f)]
+            if bad:
+                raise ValueError(
+                    f"part {name!r}: {key} names {bad[0]!r}, not a plain file name inside the folder (nothing "
+                    "outside an export is read through its manifest)"
+                )
+    report = manifest.get("report", {})
+    if not isinstance(report, dict) or not all(plain_name(f) for f in report):
+        raise ValueError("'report' is not a table of plain file names")
     if not isinstance(manifest.get("script", {}), dict):
         raise ValueError("'script' is not a record")

@@ -11,7 +11,10 @@ import dataclasses
 import os
 import re
 import runpy
+import signal
 import sys
+import threading
+import time
 import traceback
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -20,6 +23,7 @@ from pathlib import Path
 
 from transplanter.errors import PartScriptError, SpecError, TransplanterError
 from transplanter.families.study import Study
+from transplanter.inputs import SCRIPT_TIMEOUT_S
 
 __all__ = ["Family", "discover", "load_family", "run_script"]
 
@@ -95,62 +99,99 @@ def _beside(folder: Path, imported: list[str]) -> Iterator[None]:
         sys.modules.update(held)
 
 
-def run_script(path: str | Path, imported: list[str] | None = None) -> dict:
+class _TimedOut(BaseException):
+    """Raised into a part script that outlives its time limit (a BaseException: the script's own
+    ``except Exception`` cannot swallow it)."""
+
+
+@contextmanager
+def _guarded(p: Path, what: str, limit: float | None) -> Iterator[None]:
+    """Run a part script's code (``what``: "the script", "family()") as one: any error it raises
+    becomes a PartScriptError naming the script and the line, its working folder is put back
+    however it leaves it, and with ``limit`` (seconds; main thread only, where a signal can reach
+    it) it is stopped when it runs longer."""
+    cwd = os.getcwd()
+    timed = limit is not None and threading.current_thread() is threading.main_thread() and hasattr(signal, "SIGALRM")
+    if timed:
+
+        def stop(signum, frame):
+            raise _TimedOut
+
+        previous = signal.signal(signal.SIGALRM, stop)
+        signal.setitimer(signal.ITIMER_REAL, limit)
+    try:
+        yield
+    except _TimedOut as exc:
+        raise PartScriptError(
+            f"{p}: {what} ran longer than its time limit of {limit:g} s (raise it with --timeout)"
+        ) from exc
+    except SyntaxError as exc:
+        raise PartScriptError(f"{exc.filename or p}:{exc.lineno}: syntax error: {exc.msg}") from exc
+    except TransplanterError as exc:
+        raise PartScriptError(f"{p}: {exc}") from exc
+    except SystemExit as exc:
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: {what} called sys.exit({exc.code!r})") from exc
+    except RecursionError as exc:
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: {what} recursed too deep") from exc
+    except Exception as exc:  # a user script can raise anything; report where
+        raised = "" if what == "the script" else f"{what} raised "
+        raise PartScriptError(f"{p}:{_script_line(exc, p)}: {raised}{type(exc).__name__}: {exc}") from exc
+    finally:
+        if timed:
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            signal.signal(signal.SIGALRM, previous)
+        if os.getcwd() != cwd:
+            os.chdir(cwd)
+
+
+def run_script(path: str | Path, imported: list[str] | None = None, timeout: float | None = SCRIPT_TIMEOUT_S) -> dict:
     """The namespace of a part script (or of a design module beside one), run with its folder
     importable (:func:`_beside`); ``imported`` collects the modules beside it that it imported.
+    It must finish within ``timeout`` seconds (None: no limit).
 
     Raises
     ------
     PartScriptError
-        If the file is missing or a folder, does not parse, or raises; the message names the
-        script and the line.
+        If the file is missing or a folder, does not parse, raises or runs too long; the message
+        names the script and the line.
     """
     p = Path(path)
     if p.is_dir():
         raise PartScriptError(f"{p} is a folder, not a part script (give a .py file, or --parts {p})")
     if not p.is_file():
         raise PartScriptError(f"part script {p} does not exist")
-    try:
-        with _beside(p.parent, imported if imported is not None else []):
-            return runpy.run_path(str(p), run_name="transplanter_part_script")
-    except SyntaxError as exc:
-        raise PartScriptError(f"{exc.filename or p}:{exc.lineno}: syntax error: {exc.msg}") from exc
-    except TransplanterError as exc:
-        raise PartScriptError(f"{p}: {exc}") from exc
-    except SystemExit as exc:
-        raise PartScriptError(f"{p}:{_script_line(exc, p)}: the script called sys.exit({exc.code!r})") from exc
-    except Exception as exc:  # a user script can raise anything; report where
-        raise PartScriptError(f"{p}:{_script_line(exc, p)}: {type(exc).__name__}: {exc}") from exc
+    with _guarded(p, "the script", timeout), _beside(p.parent, imported if imported is not None else []):
+        return runpy.run_path(str(p), run_name="transplanter_part_script")
 
 
-def load_family(path: str | Path) -> Family:
+def load_family(path: str | Path, timeout: float | None = SCRIPT_TIMEOUT_S) -> Family:
     """Run a part script and return the :class:`Family` its ``family()`` builds.
 
     The script runs with its folder importable, so its design models and optimisation problems
-    can live beside it in modules named ``_*.py`` (which :func:`discover` skips).
+    can live beside it in modules named ``_*.py`` (which :func:`discover` skips). The script and
+    ``family()`` together must finish within ``timeout`` seconds (None: no limit); the script
+    must still be there when they have (one that deletes itself is refused).
 
     Raises
     ------
     PartScriptError
-        If the file is missing, does not parse, lacks ``family()``, raises, or returns
-        something that is not a Family. The message names the script (and line).
+        If the file is missing, does not parse, lacks ``family()``, raises, runs too long, or
+        returns something that is not a Family. The message names the script (and line).
     """
     p = Path(path)
     imported: list[str] = []
-    ns = run_script(p, imported)
+    start = time.monotonic()
+    ns = run_script(p, imported, timeout)
     fn = ns.get("family")
     if not callable(fn):
         raise PartScriptError(f"{p}: a part script must define family() returning transplanter.families.Family")
-    try:
+    left = None if timeout is None else max(timeout - (time.monotonic() - start), 1e-3)
+    with _guarded(p, "family()", left):
         fam = fn()
-    except TransplanterError as exc:
-        raise PartScriptError(f"{p}: {exc}") from exc
-    except SystemExit as exc:
-        raise PartScriptError(f"{p}:{_script_line(exc, p)}: family() called sys.exit({exc.code!r})") from exc
-    except Exception as exc:
-        raise PartScriptError(f"{p}:{_script_line(exc, p)}: family() raised {type(exc).__name__}: {exc}") from exc
     if not isinstance(fam, Family):
         raise PartScriptError(f"{p}: family() returned {type(fam).__name__}, expected transplanter.families.Family")
+    if not p.is_file():
+        raise PartScriptError(f"{p}: the part script is gone after it ran (it deleted or moved itself)")
     return dataclasses.replace(fam, script=str(p), modules=tuple(imported))
 
 

@@ -15,7 +15,7 @@ from transplanter import formats, plots, validate
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.cutter import ShaperCutter
 from transplanter.cutter_choice import coarsest_cut
-from transplanter.errors import GeometryError, SpecError, finite_positive
+from transplanter.errors import GeometryError, SpecError, finite_array, finite_positive
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.making import Making, manufacture
 from transplanter.families.study import Built, StudyDefaults, Table
@@ -146,6 +146,11 @@ class PlanetaryStudy(StudyDefaults):
     tradeoff: tuple[tuple[str, DifferentialTrain], ...] = ()
 
     def __post_init__(self) -> None:
+        finite_positive("plant_spacing", self.plant_spacing)
+        finite_positive("planting_depth", self.planting_depth)
+        if not isinstance(self.seedling_box, tuple | list) or len(self.seedling_box) != 2:
+            raise SpecError.out_of_range("seedling_box", self.seedling_box, "(x, y) in mm")
+        finite_array("seedling_box", list(self.seedling_box))
         if (self.site is None) != (self.module is None):
             raise SpecError(f"{self.name}: give both site and module (objectives), or neither")
         if self.module is not None:

@@ -30,7 +30,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 from scipy import integrate, optimize
@@ -294,14 +293,10 @@ class PlantingArm:
         t_low, _ = refine_extreme(tip_y, cyc.theta2, y, xtol=ANGLE_ROOT_RAD)
         y_low = tip_y(t_low)
         if planting_depth is not None:
-            depth = float(planting_depth)
-            if not math.isfinite(depth) or depth <= 0.0:
-                raise SpecError.out_of_range("planting_depth", planting_depth, "finite and > 0 mm")
+            depth = check_number("planting_depth", planting_depth, 0.0, low_open=True, unit="mm")  # no "40"
             level = y_low + depth
         else:
-            level = float(cast(float, soil_level))  # exactly one of the two is given
-            if not math.isfinite(level):
-                raise SpecError.out_of_range("soil_level", soil_level, "finite (mm)")
+            level = check_number("soil_level", soil_level, None, unit="mm")  # exactly one of the two is given
             depth = level - y_low
             if depth <= 0.0:
                 raise GeometryError(

@@ -13,9 +13,15 @@ Three ways in, one way out (a :class:`~transplanter.pitch.GearPair`):
   or an ellipse about its focus for one lobe) or ``eccentric:E`` (a circle turning about a
   point E radii from its centre), whose conjugate is found with ``driven_lobes`` lobes.
 
-A ratio that does not close a whole number of driven lobes per driver turn — samples never
-quite do — is scaled by the factor that closes the nearest number, and :class:`Transmission`
-says by how much (``closure_scale``); the pair's own closure is then within 1e-9 rad.
+**A requested ratio is built exactly, or refused** — never silently changed. A constant ratio
+k = p/q (``"3*phi"``, a CSV of fives) is a pair of circles turning at that ratio, p driver
+"lobes" to q driven ones, so the tooth counts keep it exactly (an irrational k, which no tooth
+counts give, is refused with the nearest fraction). A law that does not close — the driven gear
+must turn 1/n2 of a turn per driver lobe, for a whole n2 — is refused, naming what it turns and
+the factor that would close it; only with ``scale_to_close`` (``--scale-to-close``: samples never
+quite close) is the ratio scaled by that factor, and :class:`Transmission` says by how much
+(``closure_scale``). A misfit below ``CLOSURE_ROUND_OFF`` (relative) is round-off, not a design
+change, and is closed either way.
 
 Examples
 --------
@@ -31,12 +37,15 @@ from __future__ import annotations
 import ast
 import io
 import math
+import warnings
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import cast
 
 import numpy as np
 
 from transplanter.errors import SpecError, check_int, check_number, finite_positive
+from transplanter.inputs import MAX_CSV_BYTES, MAX_CSV_ROWS, MAX_TEETH, read_data_file
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.pair import GearPair, Mesh, _mesh
 from transplanter.pitch.periodic import Constant, FourierSeries, Periodic, PeriodicIntegral, PeriodicSpline, Scaled
@@ -53,6 +62,12 @@ NAMED_CURVES = {
 #: must have died out to round-off (``SPECTRAL_TAIL``) or the expression is not smooth enough
 SAMPLES = 4096
 SPECTRAL_TAIL = 1e-11
+
+#: a ratio whose closure is off by less than this (relative) closes as given: float round-off of
+#: the integral, far below any machining (scaling by 1 + 1e-9 moves a 100 mm tooth 0.1 nm)
+CLOSURE_ROUND_OFF = 1e-9
+#: the largest numerator and denominator of a constant ratio p/q (lobes of the circle pair)
+MAX_RATIO_TERMS = 1000
 
 #: the size the curves are built at before the pair is sized by teeth and module (mm): any
 #: value works, sizing scales the pair
@@ -221,14 +236,24 @@ CSV_LARGEST_GAP_DEG = 90.0
 def ratio_from_csv(data: bytes) -> Periodic:
     """ω2/ω1 from a CSV of samples over one driver turn: an optional header row, then driver
     angle (deg, increasing within [0, 360), no stretch of more than ``CSV_LARGEST_GAP_DEG``
-    left out) and ratio per row; a periodic cubic spline through them."""
+    left out) and ratio per row; a periodic cubic spline through them. At most ``MAX_CSV_ROWS``
+    rows."""
+    if isinstance(data, str):
+        data = data.encode()
+    if not isinstance(data, bytes | bytearray):
+        raise SpecError(f"the ratio CSV must be bytes or text, got {type(data).__name__}")
+    rows = data.count(b"\n") + (not data.endswith(b"\n"))
+    if rows > MAX_CSV_ROWS + 1:
+        raise SpecError.out_of_range("the ratio CSV's rows", rows, f"<= {MAX_CSV_ROWS} samples (and a header)")
     first = data.split(b"\n", 1)[0]
     try:  # a first row of two numbers is a sample, not a header (it was dropped)
         header = len([float(x) for x in first.split(b",")]) != 2
     except ValueError:
         header = True
     try:
-        table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1 if header else 0, ndmin=2)
+        with warnings.catch_warnings():  # "input contained no data": said below, with the rule
+            warnings.simplefilter("ignore", UserWarning)
+            table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1 if header else 0, ndmin=2)
     except ValueError as exc:
         raise SpecError(f"the ratio CSV cannot be read as numbers (header, then 'phi_deg, ratio' rows): {exc}") from exc
     if table.shape[1] != 2 or len(table) < 8:
@@ -264,13 +289,47 @@ class Transmission:
     closure_scale: float = 1.0
 
 
-def _closing(ratio: Periodic) -> tuple[Periodic, float]:
-    """``ratio`` scaled to close the nearest whole number of driven lobes per driver lobe."""
+def _constant(ratio: Periodic) -> Periodic | None:
+    """A constant ``ratio`` k as the circle pair's ratio: period 2π/p for k = p/q (p driver lobes
+    to q driven ones); None when the ratio is not constant. SpecError when k is no fraction of
+    terms up to ``MAX_RATIO_TERMS``: no tooth counts give it."""
+    x = np.linspace(0.0, ratio.period, 64, endpoint=False)
+    values = ratio(x)
+    k = float(values.mean())
+    if not np.all(np.abs(values - k) <= 1e-12 * abs(k)):
+        return None
+    near = Fraction(k).limit_denominator(MAX_RATIO_TERMS)
+    if near.numerator == 0 or near.numerator > MAX_RATIO_TERMS or abs(float(near) - k) > CLOSURE_ROUND_OFF * k:
+        raise SpecError(
+            f"the constant ratio {k!r} is not a fraction p/q with p, q <= {MAX_RATIO_TERMS}: no tooth counts z1/z2 "
+            f"give it exactly (the nearest is {near.numerator}/{near.denominator} = {float(near)!r}); state the "
+            "ratio as that fraction"
+        )
+    return Constant(float(near), period=2 * math.pi / near.numerator)
+
+
+def _closing(ratio: Periodic, scale_to_close: bool) -> tuple[Periodic, float]:
+    """``ratio`` as it closes a whole number of driven lobes per driver lobe (see the module
+    docstring): as given, a constant as its circle pair, or scaled when ``scale_to_close``."""
+    circles = _constant(ratio)
+    if circles is not None:
+        return circles, 1.0
     turn = PeriodicIntegral(ratio, ratio.period, ratio.breakpoints).total
     lobes = max(1, round(2 * math.pi / turn))
     scale = 2 * math.pi / lobes / turn
-    if abs(scale - 1) < 1e-12:
+    if abs(scale - 1) < 1e-12:  # the integral's own round-off: as given
         return ratio, 1.0
+    if abs(scale - 1) <= CLOSURE_ROUND_OFF:
+        return Scaled(ratio, scale), scale
+    if not scale_to_close:
+        per_lobe = turn / (2 * math.pi)
+        raise SpecError(
+            f"the ratio does not close: it turns the driven gear {per_lobe:.9g} turns per driver lobe ("
+            f"{ratio.lobes} driver lobe{'s' if ratio.lobes != 1 else ''}), and a closed driven gear turns 1/n2 of a "
+            f"turn per driver lobe for a whole number n2 of its own lobes (1, 1/2, 1/3, ...); scaled by "
+            f"{scale:.9g} it would close with n2 = {lobes} — state that law, or ask for it with scale_to_close "
+            "(--scale-to-close)"
+        )
     return Scaled(ratio, scale), scale
 
 
@@ -288,8 +347,8 @@ def _named(spec: str, mesh: Mesh, driven_lobes: int | None) -> GearPair:
     e = check_number(f"{name} eccentricity E", numbers[0], 0.0, 1.0, high_open=True)
     if name == "ellipse":
         lobes = numbers[1] if len(numbers) > 1 else 1
-        if lobes != int(lobes):
-            raise SpecError.out_of_range("ellipse LOBES", lobes, "a whole number >= 1")
+        if lobes != int(lobes) or not 1 <= lobes <= 100:
+            raise SpecError.out_of_range("ellipse LOBES", lobes, "a whole number from 1 to 100")
         driver = PitchCurve.ellipse(1.0, e, int(lobes))
     else:
         driver = PitchCurve.eccentric_circle(1.0, e)
@@ -301,7 +360,12 @@ def _named(spec: str, mesh: Mesh, driven_lobes: int | None) -> GearPair:
 
 
 def transmission(
-    spec: str, mesh: Mesh | str = Mesh.EXTERNAL, *, driven_lobes: int | None = None, ring: str = "driven"
+    spec: str,
+    mesh: Mesh | str = Mesh.EXTERNAL,
+    *,
+    driven_lobes: int | None = None,
+    ring: str = "driven",
+    scale_to_close: bool = False,
 ) -> Transmission:
     """The pitch pair of ``spec`` (see the module docstring): an expression in ``phi``, the path of
     a ratio CSV (``*.csv``), or a named curve ``NAME:PARAMS``.
@@ -309,26 +373,28 @@ def transmission(
     ``mesh`` is ``"external"`` or ``"internal"``; internal pairs from a ratio have the ring as
     ``ring`` (``"driven"``: ratio < 1, or ``"driver"``); a named curve is the driver (the planet
     of an internal pair) and its mate has ``driven_lobes`` lobes (default: as many for an
-    external pair, one more for a ring).
+    external pair, one more for a ring). A ratio that does not close is refused unless
+    ``scale_to_close`` (see the module docstring).
     """
     mesh = _mesh(mesh)
+    if not isinstance(scale_to_close, bool):
+        raise SpecError.out_of_range("scale_to_close", scale_to_close, "True or False")
     if not isinstance(spec, str) or not spec.strip():
         raise SpecError(f"the transmission must be an expression in phi, a CSV file or a named curve, got {spec!r}")
     spec = spec.strip()
     head = spec.partition(":")[0]
-    if head in NAMED_CURVES or (":" in spec and head.isidentifier()):
+    csv = spec.lower().endswith(".csv")  # a file first: 'run:2.csv' is a file, not a curve named 'run'
+    params = spec.partition(":")[2].replace(":", "").replace(".", "").replace("-", "").replace("e", "").strip()
+    curve = head in NAMED_CURVES or (":" in spec and head.isidentifier() and (params.isdigit() or not params))
+    if not csv and curve:  # 'lambda: phi' is an expression (refused as one), 'hyperbola:1' an unknown curve
         return Transmission(_named(spec, mesh, driven_lobes), spec)
     if driven_lobes is not None:
         raise SpecError("driven_lobes is for named curves: a ratio fixes the driven gear's lobes itself")
-    if spec.lower().endswith(".csv"):
-        try:
-            with open(spec, "rb") as f:
-                ratio = ratio_from_csv(f.read())
-        except OSError as exc:
-            raise SpecError(f"the ratio CSV {spec!r} cannot be read: {exc.strerror}") from exc
+    if csv:
+        ratio = ratio_from_csv(read_data_file("ratio CSV", spec, MAX_CSV_BYTES))
     else:
         ratio = ratio_from_expression(spec)
-    ratio, scale = _closing(ratio)
+    ratio, scale = _closing(ratio, scale_to_close)
     pair = GearPair.from_ratio(ratio, NOMINAL_CENTRE_DISTANCE, mesh, ring=ring)
     return Transmission(pair, spec, scale)
 
@@ -342,12 +408,16 @@ def size_pair(pair: GearPair, teeth: int | None, module: float | None, centre_di
             "give two of teeth, module and centre distance (teeth and module fix the size; with the centre "
             "distance, the other follows)"
         )
+    if teeth is not None:
+        check_int("teeth", teeth, 1, MAX_TEETH)
     if centre_distance is not None:
         pair = pair.scaled(finite_positive("centre distance", centre_distance) / pair.centre_distance)
-        return pair.sized(teeth=teeth) if teeth is not None else pair.sized(module=module)
+        pair, sizing = pair.sized(teeth=teeth) if teeth is not None else pair.sized(module=module)
+        check_int("teeth", int(sizing.teeth[0]), 1, MAX_TEETH)
+        return pair, sizing
     n1 = pair.lobes[0]
-    if not isinstance(teeth, int) or teeth < n1 or teeth % n1:
-        raise SpecError.out_of_range("teeth", teeth, f"a positive multiple of the driver's {n1} lobes")
+    if not isinstance(teeth, int) or teeth < n1 or teeth % n1 or teeth > MAX_TEETH:
+        raise SpecError.out_of_range("teeth", teeth, f"a positive multiple of the driver's {n1} lobes, <= {MAX_TEETH}")
     m = finite_positive("module", cast(float, module))  # two of three are given: here teeth and module
     pair = pair.scaled(teeth * math.pi * m / pair.driver.perimeter)
     return pair.sized(teeth=teeth)
