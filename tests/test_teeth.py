@@ -16,7 +16,7 @@ from reference_teeth import boolean_reference, flank_deviation
 from transplanter.cutter import ShaperCutter, involute
 from transplanter.errors import GeometryError, SpecError
 from transplanter.families import run_script
-from transplanter.pitch import GearPair, PitchCurve
+from transplanter.pitch import Constant, GearPair, PitchCurve
 from transplanter.teeth import CHORD_TOLERANCE, ArcFrame, generate
 
 FLANK = 1e-3  # mm
@@ -398,3 +398,13 @@ def test_secondary_cutting_is_measured_alike_on_a_sector_and_on_the_whole_ring(m
     sector = depth()
     monkeypatch.setattr(teeth, "_symmetry", lambda curve, teeth: 1)
     assert sector == depth() > 1.0
+
+
+def test_an_undercut_fold_is_no_needle_in_the_outline():
+    """A 12-tooth circular gear cut by an 18-tooth shaper is undercut: the fold's two envelope
+    pieces met in a 17 µm needle that hid the undercut and that the DXF's arcs missed by 1.2 µm
+    (``transplanter pair "2*phi" --teeth 24 --module 1.5`` failed at the DXF re-read). The needle
+    is an envelope artefact (``SPIKE_LENGTH``): the undercut is said, with its depth."""
+    pair, _ = GearPair.from_ratio(Constant(2.0, period=math.pi), 27.0).sized(teeth=24)
+    with pytest.raises(GeometryError, match=r"undercut at tooth space \d+: [\d.]+ µm of involute flank"):
+        generate(pair.driven, ShaperCutter(18, 1.5), 12, phase=0.5)

@@ -146,9 +146,11 @@ MIN_CONTOUR_AREA = 1e-6
 FLAT_ARC_RADIUS_MM = 1e5
 
 #: a back-turn (> 90°) on segments shorter than this (mm) is an envelope artefact where two pieces
-#: meet (1.5 µm on a 20-tooth ellipse pair, 7.6 µm at a 17-tooth planet's root): a real tooth
-#: outline cannot turn back within 12.5 µm (its smallest fillet radius is tens of µm)
-SPIKE_LENGTH = 50 * CHORD_TOLERANCE
+#: meet (1.5 µm on a 20-tooth ellipse pair, 7.6 µm at a 17-tooth planet's root, 17 µm where an
+#: 18-tooth shaper's fold undercuts a 12-tooth gear — kept, that needle hid the undercut and the
+#: DXF's arcs could not follow it within 1 µm): a real tooth outline cannot turn back within
+#: 25 µm (its smallest fillet radius is tens of µm; a pointed tooth is refused by its tip land)
+SPIKE_LENGTH = 100 * CHORD_TOLERANCE
 
 #: a DXF arc draws a hole or the nose when its radius is theirs within this, mm: the arcs are
 #: inset 0.3 µm and fitted within 0.25 µm (``tolerances.DXF_INSET_MM``), the blends between the
