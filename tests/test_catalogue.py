@@ -197,6 +197,7 @@ SIZES = [
     (("--teeth", "24", "--module", "1.5", "--width", "0"), "width"),
     (("--teeth", "24", "--module", "1.5", "--width", "nan"), "width"),
     (("--teeth", "24", "--module", "1.5", "--width", "1e9"), "width"),
+    (("--teeth", "24", "--module", "1.5", "--width", "1e-9"), "face width = 1e-09"),
     (("--teeth", "24", "--module", "1.5", "--backlash", "-0.1"), "backlash"),
     (("--teeth", "24", "--module", "1.5", "--backlash", "nan"), "backlash"),
     (("--teeth", "24", "--module", "1.5", "--cutter-teeth", "3"), "cutter_teeth"),
@@ -237,7 +238,7 @@ def test_a_bad_named_curve_is_named(capsys, tmp_path, spec, words):
 
 @pytest.mark.parametrize(
     ("name", "words"),
-    [("a/b", "name"), ("..", "name"), ("", "name"), (" x", "name"), ("x y", "name"), ("-", "name")],
+    [("a/b", "name"), ("..", "name"), ("", "name"), (" x", "name"), ("x y", "name"), ("-", "name"), (".x", "first")],
 )
 def test_a_bad_name_is_named(capsys, tmp_path, name, words):
     refused(capsys, words, *PAIR, "phi - 0.08*sin(2*phi)", "--name", name, "-o", tmp_path)

@@ -7,11 +7,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from transplanter import formats, machining, solids
-from transplanter.errors import ExportError, GeometryError, SpecError, check_int, check_number, finite_positive
+from transplanter.errors import ExportError, GeometryError, SpecError, check_int, check_number
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import WIRE_EDM_TOLERANCE
 
 __all__ = ["Making", "manufacture", "step_file", "assembly_file", "check_shop_files"]
+
+
+#: the thinnest part made, mm: below it an extruded solid's mesh is no longer watertight in
+#: float round-off, and no wire-EDM plate is that thin
+MIN_FACE_WIDTH_MM = 0.1
 
 
 @dataclass(frozen=True)
@@ -32,7 +37,7 @@ class Making:
     tolerance: float = WIRE_EDM_TOLERANCE
 
     def __post_init__(self) -> None:
-        finite_positive("face width", self.width)
+        check_number("face width", self.width, MIN_FACE_WIDTH_MM, 10_000.0, unit="mm")
         if not isinstance(self.features, solids.Features):
             raise SpecError(f"features must be solids.Features, got {type(self.features).__name__}")
         if not isinstance(self.wire, tuple | list) or len(self.wire) != 2:

@@ -33,7 +33,9 @@ _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
 
 def _check_name(kind: str, name: str) -> str:
     if not isinstance(name, str) or not _NAME.match(name):
-        raise SpecError.out_of_range(f"{kind} name", name, "letters, digits, '_', '-', '.' (a file name)")
+        raise SpecError.out_of_range(
+            f"{kind} name", name, "a file name: a letter or digit first, then letters, digits, '_', '-', '.'"
+        )
     return name
 
 
