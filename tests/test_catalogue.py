@@ -101,6 +101,8 @@ EXPRESSIONS = [
     ("phi + 1/(phi - phi)", "is not finite"),
     ("phi + 1e308*1e308*sin(phi)", "is not finite"),
     ("0*phi", "> 0"),
+    ("phi + sin", "uses sin without calling it"),
+    ("phi + 0.1*cos*phi", "uses cos without calling it"),
 ]
 
 

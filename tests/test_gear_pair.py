@@ -16,8 +16,10 @@ def _files(folder):
 
 
 def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys):
-    """Cut by a rack cutter (hob); the ring below by a shaper cutter the call chooses."""
-    args = ["pair", "ellipse:0.1:2", "--teeth", "30", "--module", "2", "--rack", "-o", str(tmp_path)]
+    """Cut by a rack cutter (hob), with a profile shift from the command line (the remedies an
+    error names are options); the ring below by a shaper cutter the call chooses."""
+    args = ["pair", "ellipse:0.1:2", "--teeth", "30", "--module", "2", "--rack", "--shift", "0.05,-0.05"]
+    args += ["-o", str(tmp_path)]
     assert cli.main(args) == 0
     out = capsys.readouterr().out
     assert "30/30 teeth, m = 2 mm" in out and "rack cutter (hob)" in out and "ok ->" in out
@@ -39,10 +41,29 @@ def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys)
     # the part script left beside the folder states the call; rebuilding it gives the same files
     script = tmp_path / "pair.py"
     assert "pair_family(" in script.read_text() and "'ellipse:0.1:2'" in script.read_text()
-    assert "rack=True" in script.read_text()
+    assert "rack=True" in script.read_text() and "shift=(0.05, -0.05)" in script.read_text()
+    assert manifest["parts"]["pair"]["parameters"]["shift"] == [0.05, -0.05]
     again = tmp_path / "again"
     assert cli.main(["build", str(script), "-o", str(again)]) == 0
     assert _files(again / "pair") == _files(folder)
+    summary = capsys.readouterr().out.splitlines()[-1]  # the build's summary
+    assert summary.startswith("built 1 of 1 parts in 1 family in ") and "again/pair/report.html" in summary
+
+
+def test_the_remedies_errors_name_are_options():
+    """An error's remedies are the call's options (and the CLI's: --allow-undercut, --shift,
+    --addendum, --no-trim-ring-tips), and a centre distance the teeth cannot carry exactly is said
+    as adjusted."""
+    from transplanter.errors import GeometryError
+    from transplanter.families import pair_family
+
+    with pytest.raises(GeometryError, match=r"undercut .* allow_undercut=True \(--allow-undercut\)"):
+        pair_family("phi", teeth=12, module=1.5, cutter_teeth=18).parts[0].build(None)
+    study = pair_family("phi", teeth=12, module=1.5, cutter_teeth=18, allow_undercut=True, shift=(0.1, -0.1)).parts[0]
+    assert study.allow_undercut is True and study.shift == (0.1, -0.1) and study.trim_ring_tips is True
+    family = pair_family("phi", module=1.5, centre_distance=40.0, addendum=0.9)
+    assert "a = 40.5 mm (ADJUSTED from the 40 mm asked: the nearest that carries whole teeth)" in family.description
+    assert family.parts[0].addendum == (0.9, 0.9)
 
 
 def test_a_four_lobed_ring_and_its_planet_from_the_cli(tmp_path, capsys, monkeypatch):

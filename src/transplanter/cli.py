@@ -62,13 +62,23 @@ def _cmd_build(args: argparse.Namespace) -> int:
     jobs = args.jobs if args.jobs is not None else _default_jobs()
     manifests = build_families(families, args.output, jobs=min(jobs, max(total, 1)), progress=progress)
     ok = True
+    failed = withheld = 0
     for manifest in manifests:
         name = manifest["family"]
         print(f"{name}: {'ok' if manifest['ok'] else 'FAILED'} -> {Path(args.output) / name}")
         for part, rec in manifest["parts"].items():
             if "error" in rec:
+                failed += 1
                 print(f"  error: {name}/{part}: {rec['error']}", file=sys.stderr)
+            elif "shop_files" in rec.get("results", {}):
+                withheld += 1
         ok = ok and manifest["ok"]
+    reports = ", ".join(str(Path(args.output) / m["family"] / "report.html") for m in manifests)
+    print(
+        f"built {total - failed} of {total} parts in {len(manifests)} "
+        f"famil{'y' if len(manifests) == 1 else 'ies'} in {time.perf_counter() - start:.1f} s "
+        f"({failed} failed, {withheld} findings with shop files withheld); reports: {reports}"
+    )
     return 0 if ok else 1
 
 
@@ -235,7 +245,7 @@ def _cmd_pair(args: argparse.Namespace) -> int:
     from transplanter.families.gear_pair import gear_pair
 
     names = ("internal", "teeth", "module", "centre_distance", "driven_lobes", "ring", "backlash", "cutter_teeth")
-    names += ("scale_to_close",)
+    names += ("scale_to_close", "addendum", "shift", "trim_ring_tips", "allow_undercut")
     options = {k: getattr(args, k) for k in (*names, "rack", "width", "name")}
     manifest = gear_pair(args.transmission, args.output, **options)
     folder = Path(args.output) / manifest["family"]
@@ -282,9 +292,20 @@ def _timeout(text: str) -> float:
         raise argparse.ArgumentTypeError(str(exc)) from exc
 
 
+def _per_gear(text: str) -> float | tuple[float, float]:
+    """``A`` or ``A,B`` (driver, driven) as numbers; the ranges are the study's to check."""
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number or two numbers A,B") from exc
+    if len(values) not in (1, 2):
+        raise argparse.ArgumentTypeError(f"{text!r}: give one number, or two as driver,driven")
+    return values[0] if len(values) == 1 else (values[0], values[1])
+
+
 #: ``pair``'s options that take a value (the next argument is that value, whatever it looks like)
 _PAIR_VALUES = {"--teeth", "--module", "--centre-distance", "--ring", "--driven-lobes", "--backlash"}
-_PAIR_VALUES |= {"--cutter-teeth", "--width", "--name", "-o", "--output"}
+_PAIR_VALUES |= {"--cutter-teeth", "--width", "--name", "-o", "--output", "--addendum", "--shift"}
 
 
 def _expression_last(argv: list[str]) -> list[str]:
@@ -382,6 +403,23 @@ def _main(argv: list[str] | None = None) -> int:
     p.add_argument("--rack", action="store_true", help="cut with a rack cutter (hob): external, convex curves")
     p.add_argument("--width", type=float, default=10.0, help="face width, mm (default 10)")
     p.add_argument("--name", default="pair", help="folder and part name (default: pair)")
+    p.add_argument(
+        "--addendum",
+        type=_per_gear,
+        default=1.0,
+        metavar="A[,B]",
+        help="addendum coefficient, modules: one for both gears or driver,driven (default 1)",
+    )
+    p.add_argument(
+        "--shift", type=_per_gear, default=0.0, metavar="X[,Y]", help="profile-shift coefficient (default 0)"
+    )
+    p.add_argument(
+        "--no-trim-ring-tips",
+        dest="trim_ring_tips",
+        action="store_false",
+        help="internal pairs: refuse ring tips that foul instead of shortening them to the limit",
+    )
+    p.add_argument("--allow-undercut", action="store_true", help="accept an undercut flank instead of refusing it")
     p.add_argument(
         "--scale-to-close",
         action="store_true",

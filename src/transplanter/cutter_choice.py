@@ -46,15 +46,18 @@ def coarsest_cut(pair, *, max_module: float = 8.0, min_module: float = 0.5, **sc
         return found
 
 
-def first_cutter(pair, teeth: tuple[int, int], module: float, backlash: float | None) -> ShaperCutter:
+def first_cutter(pair, teeth: tuple[int, int], module: float, backlash: float | None, **gate) -> ShaperCutter:
     """The first standard shaper cutter (``interference.SCREEN_CUTTERS``, fewest teeth first)
     that cuts both gears of the sized ``pair`` with ``teeth`` at ``module`` (mm), ring tips
-    trimmed where the gate asks; GeometryError with the last two refusals when none does."""
+    trimmed where the gate asks (``gate``: ``addendum``, ``shift``, ``trim_ring_tips``,
+    ``allow_undercut`` as :func:`pair_gate.generate_pair` takes them); GeometryError with the last
+    two refusals when none does."""
     reasons = []
+    gate = {"trim_ring_tips": True} | gate
     for z0 in SCREEN_CUTTERS:
         cutter = ShaperCutter(z0, module)
         try:
-            generate_pair(pair, cutter, teeth, backlash=backlash, trim_ring_tips=True)
+            generate_pair(pair, cutter, teeth, backlash=backlash, **gate)
         except GeometryError as exc:
             reasons.append(f"z0 = {z0}: {exc}")
             continue

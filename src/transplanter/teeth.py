@@ -392,7 +392,8 @@ def generate(
         t = int(thin[0])
         raise GeometryError(
             f"pointed tooth {t}: its tip land is {lands[t]:.4g} mm, below min_land = {min_land:g} m = "
-            f"{min_land * m:.4g} mm ({thin.size} teeth affected); reduce the addendum or the profile shift"
+            f"{min_land * m:.4g} mm ({thin.size} teeth affected); reduce the addendum (addendum=, --addendum) or "
+            "the profile shift (shift=, --shift)"
         )
     return ToothedGear(
         body,
@@ -537,7 +538,7 @@ def _tooth_spaces(body, doubtful, y, tau, s_centres, p, nrm, allow_undercut, tol
         j = int(np.argmax(depth))
         raise GeometryError(
             f"undercut at tooth space {j}: {depth[j] * 1000:.1f} µm of involute flank is cut "
-            "away by the cutter tip (limit 0); use a profile shift, a cutter with fewer teeth (a shaper cutter "
-            "instead of a rack) or allow_undercut=True"
+            "away by the cutter tip (limit 0); use a profile shift (shift=, --shift), a cutter with fewer teeth "
+            "(a shaper cutter instead of a rack; --cutter-teeth) or allow_undercut=True (--allow-undercut)"
         )
     return out

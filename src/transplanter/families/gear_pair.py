@@ -38,6 +38,7 @@ from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.making import Making
 from transplanter.families.manifest import previous_manifest
 from transplanter.families.scripts import Family
+from transplanter.pair_gate import per_gear
 from transplanter.pitch import GearPair
 from transplanter.pitch.transmission import size_pair, transmission
 from transplanter.solids import Features
@@ -72,6 +73,10 @@ def pair_family(
     width: float = DEFAULT_WIDTH,
     name: str = "pair",
     scale_to_close: bool = False,
+    addendum: float | tuple[float, float] = 1.0,
+    shift: float | tuple[float, float] = 0.0,
+    trim_ring_tips: bool = True,
+    allow_undercut: bool = False,
 ) -> Family:
     """The family of one toothed pair of ``spec`` (the design; :func:`gear_pair` builds it).
 
@@ -104,11 +109,23 @@ def pair_family(
         A ratio that does not close is scaled by the factor that closes it (samples never quite
         close) instead of refused; the description says by how much. A constant ratio is built
         as its pair of circles either way.
+    addendum, shift : float or (driver, driven)
+        Addendum and profile-shift coefficients (the remedies for pointed teeth and undercut the
+        errors name; ``--addendum``, ``--shift``).
+    trim_ring_tips : bool
+        Internal pairs: shorten the ring's tips to the closed-form interference limit (default);
+        False refuses the pair instead (``--no-trim-ring-tips``).
+    allow_undercut : bool
+        Accept an undercut flank instead of refusing it (``--allow-undercut``).
     """
     check_number("width", width, 0.0, 1000.0, low_open=True, unit="mm")
     inputs.boolean("internal", internal)
     inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
     inputs.boolean("scale_to_close", scale_to_close)
+    inputs.boolean("trim_ring_tips", trim_ring_tips)
+    inputs.boolean("allow_undercut", allow_undercut)
+    gate = {"addendum": per_gear("addendum", addendum), "shift": per_gear("shift", shift)}
+    gate |= {"trim_ring_tips": trim_ring_tips, "allow_undercut": allow_undercut}
     mesh = "internal" if internal else "external"
     found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring, scale_to_close=scale_to_close)
     pair, sizing = size_pair(found.pair, teeth, module, centre_distance)
@@ -117,18 +134,21 @@ def pair_family(
             raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
         cutter = RackCutter(sizing.module)
     elif cutter_teeth is None:
-        cutter = first_cutter(pair, sizing.teeth, sizing.module, backlash)
+        cutter = first_cutter(pair, sizing.teeth, sizing.module, backlash, **gate)
     else:
         cutter = ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), sizing.module)
     making = tuple(
         Making(width, Features() if pair.ring == role else Features(_bore(pair, k, cutter), keyway=False))
         for k, role in enumerate(("driver", "driven"))
     )
-    study = ToothedPairStudy(name, pair, cutter, sizing.teeth[0], making=making, backlash=backlash)
+    study = ToothedPairStudy(name, pair, cutter, sizing.teeth[0], making=making, backlash=backlash, **gate)
     scaled = "" if found.closure_scale == 1.0 else f"; ratio scaled by {found.closure_scale:.9g} to close"
+    adjusted = ""
+    if centre_distance is not None and abs(pair.centre_distance - centre_distance) > 1e-9 * centre_distance:
+        adjusted = f" (ADJUSTED from the {centre_distance:g} mm asked: the nearest that carries whole teeth)"
     description = (
         f"{mesh} pair of {spec!r}: {sizing.teeth[0]}/{sizing.teeth[1]} teeth, m = {sizing.module:.6g} mm, "
-        f"a = {pair.centre_distance:.6g} mm, {cutter.label}{scaled}"
+        f"a = {pair.centre_distance:.6g} mm{adjusted}, {cutter.label}{scaled}"
     )
     return Family(name, description, (study,))
 

@@ -116,12 +116,17 @@ def _compile(expr: str):
     except (RecursionError, MemoryError) as exc:
         raise SpecError(f"the transmission function is nested too deeply (limit {MAX_NESTING} levels)") from exc
     short = expr if len(expr) <= 80 else expr[:77] + "..."
+    called = {id(n.func) for n in ast.walk(tree) if isinstance(n, ast.Call)}
     for node in ast.walk(tree):
         if isinstance(node, ast.Name):
             if node.id != "phi" and node.id not in _FUNCTIONS and node.id not in _CONSTANTS:
                 raise SpecError(
                     f"the transmission function {short!r} uses {node.id!r}: only phi, pi, e and "
                     f"{', '.join(_FUNCTIONS)} are allowed"
+                )
+            if node.id in _FUNCTIONS and id(node) not in called:
+                raise SpecError(
+                    f"the transmission function {short!r} uses {node.id} without calling it: {node.id}(...)"
                 )
         elif isinstance(node, ast.Call):
             if not isinstance(node.func, ast.Name) or node.func.id not in _FUNCTIONS or node.keywords:
