@@ -174,7 +174,28 @@ def problem() -> Problem:
         module = found.module if found is not None else 0.0
         return 10.0 * shortfall + (GOAL_MODULE - min(module, GOAL_MODULE))
 
-    return Problem("seed004 differential train", VARIABLES, cost, infeasible=1e4)
+    return Problem(
+        "seed004 differential train",
+        VARIABLES,
+        cost,
+        infeasible=1e4,
+        choices=("lobe_choice",),
+        describe=describe,
+        optimum="OPTIMUM",  # `transplanter optimise parts/_seed004.py --write` records it below
+    )
+
+
+def describe(x) -> dict[str, str]:
+    """Each objective of a design (module from the screen, teeth not cut) with its margin: how far
+    inside its limits it is (negative: how far outside)."""
+    _, found, objectives, rules = evaluate(x, cut=False)
+    out = {}
+    for o in objectives:
+        margin = min(o.value - o.low, o.high - o.value)
+        out[f"{o.number} {o.name}"] = f"{o.value:.4g} {o.unit} (margin {margin:+.3g})".replace("  ", " ")
+    for what, value, limit, unit in rules:
+        out[what] = f"{value:.4g} {unit} (limit {limit:g})"
+    return out
 
 
 #: the design problem() found: ``transplanter optimise parts/_seed004.py --seed 1 --maxiter 150

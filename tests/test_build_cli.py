@@ -486,3 +486,47 @@ def test_optimiser_options_out_of_range_are_named_one_by_one(parts_dir, capsys, 
         cli.main(["optimise", str(parts_dir / "_seed004.py"), option, value])
     assert exc.value.code == 2
     assert f"{option} = {value} is out of range" in capsys.readouterr().err
+
+
+OPTIMISED = """
+from transplanter.optimise import Problem
+
+# the design the part script builds (written by transplanter optimise --write)
+OPTIMUM = (
+    0.0,
+    1.5,
+)
+SIDES = (3, 4, 5, 6)
+
+
+def problem():
+    def cost(v):
+        return (SIDES[int(v[0])] - 5) ** 2 + (v[1] - 0.25) ** 2
+
+    return Problem(
+        "polygon", (("sides_choice", 0.0, 3.999), ("x", -1.0, 2.0)), cost,
+        choices=("sides_choice",), describe=lambda v: {"sides": f"{SIDES[int(v[0])]}"}, optimum="OPTIMUM",
+    )
+"""
+
+
+def test_the_optimiser_records_its_optimum_where_the_script_reads_it(tmp_path, capsys):
+    """Progress shows choices as integers, the objectives and the time left; --write replaces the
+    script's OPTIMUM in place (nothing else in the file changes) so a build follows it."""
+    script = tmp_path / "design.py"
+    script.write_text(OPTIMISED)
+    args = ["optimise", str(script), "--seed", "2", "--maxiter", "6", "--popsize", "8"]
+    assert cli.main([*args, "--write"]) == 0
+    captured = capsys.readouterr()
+    result = json.loads(captured.out)
+    assert result["parameters"]["sides_choice"] == 2 and isinstance(result["parameters"]["sides_choice"], int)
+    assert '"sides_choice": 2' in captured.err and "s left" in captured.err and "  sides: 5" in captured.err
+    text = script.read_text()
+    assert text.startswith(OPTIMISED.split("OPTIMUM = (")[0]) and text.endswith(OPTIMISED.split("\n)\n", 1)[1])
+    ns: dict = {}
+    exec(compile(text, str(script), "exec"), ns)  # noqa: S102 - the test's own script
+    assert int(ns["OPTIMUM"][0]) == result["parameters"]["sides_choice"]  # the choice the model uses
+    assert abs(ns["OPTIMUM"][1] - result["parameters"]["x"]) < 1e-6
+    script.write_text(OPTIMISED.replace(', optimum="OPTIMUM"', ""))
+    assert cli.main([*args, "--write"]) == 2
+    assert "names no place: give Problem(..., optimum='OPTIMUM')" in capsys.readouterr().err

@@ -109,9 +109,12 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
 
 def _cmd_optimise(args: argparse.Namespace) -> int:
     import json
+    import time
+
+    import numpy as np
 
     from transplanter.errors import PartScriptError
-    from transplanter.families.scripts import run_script
+    from transplanter.families.scripts import record_optimum, run_script
     from transplanter.optimise import Problem, optimise
 
     path = Path(args.script)
@@ -125,11 +128,24 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
     if not isinstance(problem, Problem):
         raise PartScriptError(f"{path}: problem() returned {type(problem).__name__}, expected optimise.Problem")
 
-    names = [name for name, _, _ in problem.variables]
+    if args.write and problem.optimum is None:
+        raise PartScriptError(
+            f"{path}: --write records the optimum where the part script reads it, but problem() names no place: "
+            "give Problem(..., optimum='OPTIMUM') (a module-level tuple of numbers in this file)"
+        )
+    start = time.perf_counter()
 
     def progress(gen: int, best: float, x) -> None:  # the best design so far, every generation
-        design = json.dumps({n: round(float(v), 6) for n, v in zip(names, x, strict=True)})
-        print(f"generation {gen:4d}/{args.maxiter}: best cost {best:.6g} at {design}", file=sys.stderr, flush=True)
+        design = json.dumps(problem.shown(x))
+        left = (time.perf_counter() - start) / gen * (args.maxiter - gen)
+        line = f"generation {gen:4d}/{args.maxiter}: best cost {best:.6g} at {design}; at most {left:.0f} s left"
+        if problem.describe is not None:
+            try:
+                said = problem.describe(np.asarray(x, dtype=float))
+                line += "\n  " + "; ".join(f"{k}: {v}" for k, v in said.items())
+            except Exception as exc:  # the problem's own code: its failure is said, the run goes on
+                line += f"\n  (its objectives cannot be described: {type(exc).__name__}: {exc})"
+        print(line, file=sys.stderr, flush=True)
 
     res = optimise(
         problem,
@@ -147,8 +163,12 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
         "generations": res.generations,
         "evaluations": res.evaluations,
         "evaluation": "serial" if args.workers == 1 and args.scheduler is None else "parallel (deferred updating)",
-        "parameters": {k: round(v, 6) for k, v in res.named(problem).items()},
+        "parameters": problem.shown(res.x),
     }
+    if args.write:
+        where = record_optimum(path, problem.optimum, res.x)
+        out["written"] = f"{problem.optimum} in {where}"
+        print(f"the optimum is recorded as {problem.optimum} in {where}: a build follows it", file=sys.stderr)
     print(json.dumps(out, indent=2))
     return 0
 
@@ -322,7 +342,7 @@ def _expression_last(argv: list[str]) -> list[str]:
             k += 2
             continue
         body = a.lstrip("-")
-        if a.startswith("-") and not a.startswith("--") and any(c in body for c in " ()*+/^") | ("phi" in body):
+        if a.startswith("-") and not a.startswith("--") and (any(c in body for c in " ()*+/^") or "phi" in body):
             moved.append(a)
         else:
             out.append(a)
@@ -376,6 +396,11 @@ def _main(argv: list[str] | None = None) -> int:
     o.add_argument("--popsize", type=int, default=15, help="population size per variable")
     o.add_argument("--workers", type=int, default=1, help="evaluate candidates on N local processes (dask)")
     o.add_argument("--scheduler", metavar="ADDRESS", help="evaluate candidates on this Dask cluster (tcp://host:port)")
+    o.add_argument(
+        "--write",
+        action="store_true",
+        help="record the optimum in the script, where problem() says the part script reads it (Problem(optimum=))",
+    )
     c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
     c.add_argument("folders", nargs="*", help="built family folders, or a folder of them (default: exports)")
     c.add_argument(

@@ -48,6 +48,14 @@ class Problem:
     cost: Callable[[np.ndarray], float]
     infeasible: float = 1e6
     x0: tuple[float, ...] | None = None
+    #: variables that are choices (their integer part is what the model uses): shown as integers
+    choices: tuple[str, ...] = ()
+    #: the best design's objectives in words, ``{objective: "value unit (margin ...)"}``, shown
+    #: with the progress (one evaluation per generation)
+    describe: Callable[[np.ndarray], dict[str, str]] | None = None
+    #: the module-level name of the design vector in the file that defines ``problem()``
+    #: (``OPTIMUM``): ``transplanter optimise --write`` records the optimum there
+    optimum: str | None = None
 
     def __post_init__(self) -> None:
         if not self.variables:
@@ -55,6 +63,18 @@ class Problem:
         for name, lo, hi in self.variables:
             if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
                 raise SpecError.out_of_range(f"bounds of {name}", (lo, hi), "finite with low < high")
+        unknown = set(self.choices) - {name for name, _, _ in self.variables}
+        if unknown:
+            raise SpecError(f"problem {self.name!r}: choices {sorted(unknown)} are not variables")
+        if self.optimum is not None and not (isinstance(self.optimum, str) and self.optimum.isidentifier()):
+            raise SpecError.out_of_range("optimum", self.optimum, "a Python name (the design vector's variable)")
+
+    def shown(self, x) -> dict[str, float | int]:
+        """``x`` by variable name as a designer reads it: choices as the integers the model uses."""
+        return {
+            name: int(v) if name in self.choices else round(float(v), 6)
+            for (name, _, _), v in zip(self.variables, x, strict=True)
+        }
 
     def __call__(self, x: np.ndarray) -> float:
         """The cost of ``x``: a TransplanterError (a design that cannot be built) or a non-finite
