@@ -136,3 +136,50 @@ def test_the_carrier_plate_step_re_reads_as_its_dxf_extruded(built, parts_dir):
         train.carrier[1].width,
     )
     assert rep["valid"] and rep["solids"] == 1 and rep["volume_rel_error"] < SOLID_VOLUME_REL
+
+
+def _edges_per_planar_face(shape) -> list[int]:
+    """Edges bounding each face of ``shape`` that lies in a plane z = const (its top and bottom)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_Plane
+    from OCP.TopAbs import TopAbs_EDGE, TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+
+    out = []
+    faces = TopExp_Explorer(shape, TopAbs_FACE)
+    while faces.More():
+        face = TopoDS.Face(faces.Current())
+        surface = BRepAdaptor_Surface(face)
+        if surface.GetType() == GeomAbs_Plane and abs(surface.Plane().Axis().Direction().Z()) > 0.5:  # top, bottom
+            edges, n = TopExp_Explorer(face, TopAbs_EDGE), 0
+            while edges.More():
+                n += 1
+                edges.Next()
+            out.append(n)
+        faces.Next()
+    return out
+
+
+def test_a_ring_gears_step_has_no_face_of_thousands_of_edges(built):
+    """OpenCASCADE's import grows with the square of a face's edge count: the seed-004 ring's two
+    planar faces of 5744 edges took 56 s in gmsh. Its STEP splits them into sectors by straight
+    cuts (the same arcs, no wall inside): re-read by OCP, one valid solid of the DXF's arcs × width
+    (within 1e-6), no planar face over a few hundred edges (gmsh 4.15 imports it in 4.8 s)."""
+    folder = built / "planetary_seed004"
+    data = (folder / "optimised_ring_planet.driver.step").read_bytes()
+    rep = formats.STEP.verify(
+        "optimised_ring_planet.driver", data, (folder / "optimised_ring_planet.driver.dxf").read_bytes(), 12.0
+    )
+    assert rep["valid"] and rep["solids"] == 1 and rep["volume_rel_error"] < SOLID_VOLUME_REL
+    per_face = _edges_per_planar_face(step.read_step(data))
+    assert len(per_face) > 100 and max(per_face) <= 4 * step.SECTOR_EDGES, max(per_face)
+    assert sum(per_face) > 2 * 5000  # every arc of both contours is still there, on the sectors
+
+
+def test_a_section_without_room_for_cuts_keeps_its_two_planar_faces():
+    """A disc without a hole (nothing to cut to) is the plain prism, whatever its edge count."""
+    t = np.linspace(0, 2 * np.pi, 2000, endpoint=False)
+    verts = np.stack([40 * np.cos(t), 25 * np.sin(t), np.zeros_like(t)], axis=1)
+    shape = step.prism([(verts, False)], 5.0)
+    assert sorted(_edges_per_planar_face(shape)) == [2000, 2000]

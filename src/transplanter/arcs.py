@@ -35,7 +35,7 @@ from transplanter.errors import SpecError
 from transplanter.machining import inset_ring
 from transplanter.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM
 
-__all__ = ["bulge_area", "fit_arcs", "section_arcs"]
+__all__ = ["bulge_area", "bulge_points", "fit_arcs", "section_arcs"]
 
 
 def _arc_dev(p0, t0, p1, pts):
@@ -173,6 +173,28 @@ def bulge_area(verts: np.ndarray) -> float:
     chord = np.hypot(xn - x, yn - y)[b != 0]
     r = chord / (2.0 * np.abs(np.sin(theta / 2)))
     return area + float(np.sum(np.sign(theta) * r**2 / 2 * (np.abs(theta) - np.sin(np.abs(theta)))))
+
+
+def bulge_points(verts: np.ndarray, sagitta: float = 1e-3) -> np.ndarray:
+    """Closed bulge vertices ``(n, 3)`` flattened to points ``(m, 2)`` (the first not repeated),
+    each arc sampled so that no chord leaves it by more than ``sagitta`` mm; numpy only."""
+    v = np.asarray(verts, dtype=float)
+    out = []
+    for k in range(len(v)):
+        p0, p1, b = v[k, :2], v[(k + 1) % len(v), :2], v[k, 2]
+        out.append(p0[None])
+        if b == 0.0:
+            continue
+        theta = 4.0 * math.atan(b)
+        chord = p1 - p0
+        c = math.hypot(*chord)
+        r = c / (2.0 * math.sin(theta / 2))  # signed: the centre lies left of the chord for b > 0
+        centre = (p0 + p1) / 2 + np.array([-chord[1], chord[0]]) / c * r * math.cos(theta / 2)
+        steps = max(1, math.ceil(abs(theta) / (2 * math.acos(max(-1.0, 1 - sagitta / abs(r))))))
+        a0 = math.atan2(p0[1] - centre[1], p0[0] - centre[0])
+        a = a0 + theta * np.arange(1, steps) / steps
+        out.append(np.stack([centre[0] + abs(r) * np.cos(a), centre[1] + abs(r) * np.sin(a)], axis=1))
+    return np.concatenate(out)
 
 
 def _rings(section: shapely.Polygon):

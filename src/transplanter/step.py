@@ -6,7 +6,12 @@ circular arc through its end points and its mid point (``GC_MakeArcOfCircle``), 
 edges sharing one vertex; the outer wire (counter-clockwise) and the hole wires (clockwise) make a planar face, which
 is extruded along +z by the width (``BRepPrimAPI_MakePrism``). The solid is therefore exactly
 the DXF's section × width — the same lines and arcs a wire-EDM shop cuts — never the STL's
-triangles, and its volume is known in closed form (:func:`arcs_area`).
+triangles, and its volume is known in closed form (:func:`arcs_area`). A section of more than
+``4 × SECTOR_EDGES`` edges has its two planar faces split into sectors by straight cuts across
+the material (:func:`_sectors`): the same solid, but no face bounded by thousands of edges, which
+OpenCASCADE's importers repair in time that grows with the square of that count (the seed-004
+ring: 98.6 s → 4.5 s in OCP's reader with its default repairs, 56 s → 4.8 s in gmsh;
+``benchmarks/step_import.py``).
 
 The file's header is fixed (part name, no time stamp, transplanter as the originating system),
 so rebuilding gives identical bytes. :func:`read_step` re-reads a file with OCP's own
@@ -38,8 +43,9 @@ import tempfile
 from dataclasses import dataclass
 
 import numpy as np
+import shapely
 
-from transplanter.arcs import bulge_area
+from transplanter.arcs import bulge_area, bulge_points
 from transplanter.errors import ExportError, GeometryError
 from transplanter.tolerances import FLAT_ARC_RADIUS_MM
 
@@ -103,7 +109,7 @@ def _occ():
     from OCP.BRep import BRep_Builder
     from OCP.StepData import StepData_StepWriter
     from OCP.TCollection import TCollection_AsciiString, TCollection_HAsciiString
-    from OCP.TopoDS import TopoDS_Wire
+    from OCP.TopoDS import TopoDS, TopoDS_Shell, TopoDS_Solid, TopoDS_Wire
 
     for printer in Message.Message.DefaultMessenger_s().Printers():
         printer.SetTraceLevel(Message.Message_Gravity.Message_Fail)
@@ -116,21 +122,22 @@ def _occ():
     ns["StepData_StepWriter"] = StepData_StepWriter
     ns["BRep_Builder"] = BRep_Builder
     ns["TopoDS_Wire"] = TopoDS_Wire
+    ns["TopoDS_Shell"] = TopoDS_Shell
+    ns["TopoDS_Solid"] = TopoDS_Solid
+    ns["TopoDS"] = TopoDS
     ns["HString"] = TCollection_HAsciiString
     ns["AString"] = TCollection_AsciiString
     return type("OCC", (), ns)
 
 
-def _wire(occ, verts: np.ndarray):
-    """A closed wire of lines and arcs through bulge vertices ``(n, 3)``, the vertices shared."""
+def _edges(occ, verts: np.ndarray) -> tuple[list, list]:
+    """The vertices of bulge vertices ``(n, 3)`` and the edge of each span (span k from vertex k
+    to k + 1: a line, or an arc through its end points and mid point), neighbours sharing one
+    vertex."""
     n = len(verts)
     pts = [occ.gp_Pnt(float(x), float(y), 0.0) for x, y, _ in verts]
     vertices = [occ.BRepBuilderAPI_MakeVertex(p).Vertex() for p in pts]
-    # the edges join in order through shared vertices, so the wire is assembled directly
-    # (BRepBuilderAPI_MakeWire searches the wire for each new edge's vertex: quadratic)
-    wire = occ.TopoDS_Wire()
-    builder = occ.BRep_Builder()
-    builder.MakeWire(wire)
+    edges = []
     for k in range(n):
         j = (k + 1) % n
         (x0, y0, bulge), (x1, y1, _) = verts[k], verts[j]
@@ -153,17 +160,42 @@ def _wire(occ, verts: np.ndarray):
             edge = occ.BRepBuilderAPI_MakeEdge(curve, vertices[k], vertices[j])
         if not edge.IsDone():
             raise GeometryError(f"cannot build the STEP edge from ({x0:g}, {y0:g}) to ({x1:g}, {y1:g}) mm")
-        builder.Add(wire, edge.Edge())
+        edges.append(edge.Edge())
+    return vertices, edges
+
+
+def _wire_of(occ, edges):
+    """A closed wire of ``edges`` that join in order through shared vertices, assembled directly
+    (BRepBuilderAPI_MakeWire searches the wire for each new edge's vertex: quadratic)."""
+    wire = occ.TopoDS_Wire()
+    builder = occ.BRep_Builder()
+    builder.MakeWire(wire)
+    for edge in edges:
+        builder.Add(wire, edge)
     wire.Closed(True)
     return wire
 
 
+def _wire(occ, verts: np.ndarray):
+    """A closed wire of lines and arcs through bulge vertices ``(n, 3)``, the vertices shared."""
+    return _wire_of(occ, _edges(occ, verts)[1])
+
+
+#: a planar face bounded by more edges than this is split into sectors (:func:`_sectors`)
+SECTOR_EDGES = 80
+
+
 def prism(contours: list[tuple[np.ndarray, bool]], width: float):
-    """The OCC solid: the face bounded by ``contours`` (the first the outline) extruded by ``width``."""
+    """The OCC solid: the face bounded by ``contours`` (the first the outline) extruded by ``width``;
+    above ``4 × SECTOR_EDGES`` edges its two planar faces are split into sectors (:func:`_sectors`)."""
     occ = _occ()
     outer = [v for v, hole in contours if not hole]
     if len(outer) != 1:
         raise GeometryError(f"a STEP part needs exactly one outer contour, got {len(outer)}")
+    if sum(len(v) for v, _ in contours) > 4 * SECTOR_EDGES:
+        sectored = _sectors(occ, contours, width)
+        if sectored is not None:
+            return sectored
     # on the plane z = 0, normal +z (the outline counter-clockwise): given, not fitted to the points
     face = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(), _wire(occ, outer[0]), True)
     for verts, hole in contours:
@@ -172,6 +204,97 @@ def prism(contours: list[tuple[np.ndarray, bool]], width: float):
     if not face.IsDone():
         raise GeometryError("the STEP section does not make a planar face")
     return occ.BRepPrimAPI_MakePrism(face.Face(), occ.gp_Vec(0.0, 0.0, float(width))).Shape()
+
+
+def _cuts(contours, count: int) -> list[tuple[int, int]] | None:
+    """``count`` cuts across the material, each ``(inner vertex, outer vertex)``: a straight line
+    from a vertex of the largest hole to the outline's vertex nearest its angle, inside the section
+    (arcs flattened to 1 µm) and 0.05 mm clear of every other hole, in order of angle; None when
+    fewer than two are found."""
+    outer = next(v for v, hole in contours if not hole)
+    holes = [v for v, hole in contours if hole]
+    inner = max(holes, key=lambda v: abs(bulge_area(v)))
+    section = shapely.Polygon(bulge_points(outer, 1e-3), [bulge_points(h, 1e-3) for h in holes])
+    shapely.prepare(section)
+    others = shapely.union_all([shapely.Polygon(bulge_points(h, 1e-3)).buffer(0.05) for h in holes if h is not inner])
+    angle_in = np.arctan2(inner[:, 1], inner[:, 0]) % (2 * math.pi)
+    angle_out = np.arctan2(outer[:, 1], outer[:, 0]) % (2 * math.pi)
+    radius_in = np.hypot(inner[:, 0], inner[:, 1])
+    found: list[tuple[int, int]] = []
+    sector = 2 * math.pi / count
+    for k in range(count):
+        off = np.abs(np.angle(np.exp(1j * (angle_in - sector * (k + 0.25)))))
+        near = np.flatnonzero(off < 0.45 * sector)
+        for a in sorted(near, key=lambda i: (round(off[i] / sector * 20), -radius_in[i])):
+            b = int(np.argmin(np.abs(np.angle(np.exp(1j * (angle_out - angle_in[a]))))))
+            line = shapely.LineString([inner[a, :2], outer[b, :2]])
+            ends = (line.interpolate(1e-6, normalized=True), line.interpolate(1 - 1e-6, normalized=True))
+            inside = shapely.LineString(ends)
+            if section.contains(inside) and not inside.intersects(others):
+                found.append((int(a), b))
+                break
+    found = sorted(set(found), key=lambda c: angle_in[c[0]])
+    if len({a for a, _ in found}) != len(found) or len({b for _, b in found}) != len(found) or len(found) < 2:
+        return None
+    return found
+
+
+def _sectors(occ, contours, width: float):
+    """The prism with its two planar faces split into sectors (one per ``SECTOR_EDGES`` edges) by
+    straight cuts from the largest hole to the outline (:func:`_cuts`), the other holes in the
+    sector that holds them: the same lines and arcs, the same solid (the cuts are edges on its
+    planar faces, no wall), but no face bounded by thousands of edges — OpenCASCADE's import
+    (gmsh, FreeCAD, OCP) grows with the square of a face's edge count: the seed-004 ring's
+    5744-edge faces took 56 s in gmsh, its 72 sectors 4.8 s. None where the section has no hole or
+    no cuts are found (the caller makes the plain prism)."""
+    if not any(hole for _, hole in contours):
+        return None
+    count = max(2, round(sum(len(v) for v, _ in contours) / SECTOR_EDGES))
+    cuts = _cuts(contours, count)
+    if cuts is None:
+        return None
+    outer = next(v for v, hole in contours if not hole)
+    holes = [v for v, hole in contours if hole]
+    inner = max(holes, key=lambda v: abs(bulge_area(v)))
+    out_v, out_e = _edges(occ, outer)
+    in_v, in_e = _edges(occ, inner)
+    cut_e = [occ.BRepBuilderAPI_MakeEdge(in_v[a], out_v[b]).Edge() for a, b in cuts]
+    builder = occ.BRep_Builder()
+    shell = occ.TopoDS_Shell()
+    builder.MakeShell(shell)
+    rest = [(h, shapely.Polygon(bulge_points(h, 1e-3)).representative_point()) for h in holes if h is not inner]
+    n_out, n_in = len(outer), len(inner)
+    for k in range(len(cuts)):
+        (a0, b0), (a1, b1) = cuts[k], cuts[(k + 1) % len(cuts)]
+        along_out = [out_e[(b0 + j) % n_out] for j in range((b1 - b0) % n_out or n_out)]
+        along_in = [in_e[(a1 + j) % n_in] for j in range((a0 - a1) % n_in or n_in)]  # the hole runs clockwise
+        edges = [*along_out, occ.TopoDS.Edge(cut_e[(k + 1) % len(cuts)].Reversed()), *along_in, cut_e[k]]
+        face = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(), _wire_of(occ, edges), True)
+        outline = [outer[(b0 + j) % n_out, :2] for j in range((b1 - b0) % n_out + 1)]
+        outline += [inner[(a1 + j) % n_in, :2] for j in range((a0 - a1) % n_in + 1)]
+        region = shapely.Polygon(outline)
+        for h, point in rest:
+            if region.is_valid and region.contains(point):
+                face.Add(_wire(occ, h))
+        if not face.IsDone():
+            return None
+        builder.Add(shell, face.Face())
+    made = occ.BRepPrimAPI_MakePrism(shell, occ.gp_Vec(0.0, 0.0, float(width)))
+    walls = [f for e in cut_e for f in made.Generated(e)]
+    solid_shell = occ.TopoDS_Shell()
+    builder.MakeShell(solid_shell)
+    cells = occ.TopExp_Explorer(made.Shape(), occ.TopAbs_ShapeEnum.TopAbs_SOLID)
+    while cells.More():
+        faces = occ.TopExp_Explorer(cells.Current(), occ.TopAbs_ShapeEnum.TopAbs_FACE)
+        while faces.More():
+            if not any(faces.Current().IsSame(w) for w in walls):
+                builder.Add(solid_shell, faces.Current())
+            faces.Next()
+        cells.Next()
+    solid = occ.TopoDS_Solid()
+    builder.MakeSolid(solid)
+    builder.Add(solid, solid_shell)
+    return solid
 
 
 def _fixed_header(occ, writer, name: str) -> None:

@@ -233,8 +233,10 @@ def record_optimum(path: str | Path, name: str, values) -> Path:
         and node.targets[0].id == name
     ]
     numbers = (ast.Constant, ast.UnaryOp)
-    if len(found) != 1 or not isinstance(found[0].value, ast.Tuple) or not all(
-        isinstance(e, numbers) for e in found[0].value.elts
+    if (
+        len(found) != 1
+        or not isinstance(found[0].value, ast.Tuple)
+        or not all(isinstance(e, numbers) for e in found[0].value.elts)
     ):
         raise PartScriptError(
             f"{p}: the optimum is recorded in one module-level assignment '{name} = (numbers, ...)'; "
