@@ -317,3 +317,13 @@ def test_reports_say_built_withheld_or_failed_in_their_headlines(built):
     table = page[page.index("<table>") :]
     digits = [m.lstrip("0.").replace(".", "") for m in re.findall(r"\d+\.\d+", table)]
     assert digits and max(len(d) for d in digits) <= 4
+
+
+def test_a_metrics_table_is_one_table_with_its_units_in_their_own_column(built):
+    """Seed 000's Table-2 metrics were one mini-table per metric (159 tables on the page) with
+    noise such as -5.9e-08 m/s: now one table per part, name / value / unit, the units written
+    as units, round-off shown as 0, and the parameters folded."""
+    page = (built / "fourbar_seed000" / "report.html").read_text()
+    parts = page.count("<h2>")
+    assert page.count("<table>") <= 8 * parts and "<td class='u'>m/s²</td>" in page and "m/s^2" not in page
+    assert not re.search(r"e-0[6-9]<", page) and "<details><summary><b>parameters</b></summary>" in page

@@ -45,6 +45,10 @@ _UNITS = (
     ("_s", "s"),
 )
 _SHOP = (".dxf", ".stl", ".step", ".3mf")
+#: figures closer to zero than this are shown as 0 (the manifest keeps them as computed)
+ROUND_OFF = 1e-6
+#: the units a metric record may carry, written the way the page writes units
+_UNIT_TEXT = {"m/s^2": "m/s²", "mm^2": "mm²", "mm^3": "mm³"}
 
 
 def _label(key: str) -> tuple[str, str]:
@@ -60,7 +64,7 @@ def _number(v) -> str:
     if isinstance(v, int):
         return str(v)
     if isinstance(v, float):
-        return f"{v:.4g}"
+        return "0" if abs(v) < ROUND_OFF else f"{v:.4g}"  # no "-5.9e-08 m/s": round-off of a zero
     return str(v)
 
 
@@ -104,14 +108,26 @@ def _matrix(value: dict) -> str:
     return f"<table><tr>{head}</tr>{body}</table>"
 
 
-def _grouped(title: str, value: dict) -> str:
-    """One table of the scalars, then one per topic (a dict-valued key); a topic given as
-    columns and rows is drawn as that table."""
+def _metric(v) -> bool:
+    """A ``{"value": number, "unit": text}`` record (a row of a metrics table, e.g. seed 000's Table 2)."""
+    return isinstance(v, dict) and set(v) == {"value", "unit"} and isinstance(v["value"], int | float)
+
+
+def _grouped(title: str, value: dict, folded: bool = False) -> str:
+    """One table of the scalars and of the metric records (name, value, unit columns: one table,
+    not one per metric), then one per topic (a dict-valued key); a topic given as columns and rows
+    is drawn as that table. ``folded``: the whole group in a ``<details>`` a reader opens."""
     if not value:
         return ""
     scalars = {k: v for k, v in value.items() if not isinstance(v, dict)}
-    out = [f"<h3>{title}</h3>", _table(_rows("", scalars))]
-    for key in sorted(k for k, v in value.items() if isinstance(v, dict)):
+    metrics = [
+        (k.replace("_", " "), _number(float(v["value"])), _UNIT_TEXT.get(v["unit"], v["unit"]))
+        for k, v in sorted(value.items())
+        if _metric(v)
+    ]
+    head = f"<summary><b>{title}</b></summary>" if folded else f"<h3>{title}</h3>"
+    out = ["<details>" if folded else "", head, _table(_rows("", scalars)), _table(metrics)]
+    for key in sorted(k for k, v in value.items() if isinstance(v, dict) and not _metric(v)):
         out.append(f"<h4>{html.escape(_label(key)[0])}</h4>")
         topic = value[key]
         if "columns" in topic and "rows" in topic:
@@ -120,6 +136,7 @@ def _grouped(title: str, value: dict) -> str:
             out.append(_table(_rows("", rest)))
         else:
             out.append(_table(_rows("", topic)))
+    out.append("</details>" if folded else "")
     return "".join(out)
 
 
@@ -161,7 +178,7 @@ def family_report(manifest: dict) -> bytes:
             if fname.endswith(".png"):
                 out.append(f"<img src='{html.escape(fname)}' alt='{html.escape(fname)}'>")
         out.append(_grouped("results", rec.get("results", {})))
-        out.append(_grouped("parameters", rec.get("parameters", {})))
+        out.append(_grouped("parameters", rec.get("parameters", {}), folded=True))
         links = " ".join(
             f"<a href='{html.escape(f)}'>{html.escape(f)}</a>"
             for f in sorted(rec.get("files", {}))
