@@ -27,8 +27,8 @@ def export_digests(folder: Path) -> dict[str, str]:
     """``{family/file: sha256}`` of the compared files under ``folder`` (a build's output)."""
     out = {}
     for path in sorted(folder.rglob("*")):
-        if path.suffix not in COMPARED or not path.is_file():
-            continue
+        if path.suffix not in COMPARED or not path.is_file() or path.relative_to(folder).parts[0].startswith("."):
+            continue  # the build's own records beside the families (.<family>.build.json) are no export
         data = path.read_bytes()
         if path.name == "manifest.json":
             manifest = json.loads(data)

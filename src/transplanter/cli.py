@@ -60,9 +60,12 @@ def _cmd_build(args: argparse.Namespace) -> int:
         print(f"[{done[0]}/{total}] {label}  ({time.perf_counter() - start:.1f} s)", file=sys.stderr)
 
     jobs = args.jobs if args.jobs is not None else _default_jobs()
-    manifests = build_families(families, args.output, jobs=min(jobs, max(total, 1)), progress=progress)
+    manifests = build_families(
+        families, args.output, jobs=min(jobs, max(total, 1)), progress=progress, force=args.force
+    )
     ok = True
     failed = withheld = 0
+    kept = sum(len(m.get("build", {}).get("kept", ())) for m in manifests)
     for manifest in manifests:
         name = manifest["family"]
         print(f"{name}: {'ok' if manifest['ok'] else 'FAILED'} -> {Path(args.output) / name}")
@@ -77,7 +80,8 @@ def _cmd_build(args: argparse.Namespace) -> int:
     print(
         f"built {total - failed} of {total} parts in {len(manifests)} "
         f"famil{'y' if len(manifests) == 1 else 'ies'} in {time.perf_counter() - start:.1f} s "
-        f"({failed} failed, {withheld} findings with shop files withheld); reports: {reports}"
+        f"({kept} kept unchanged since the last build, {failed} failed, {withheld} findings with shop files "
+        f"withheld); reports: {reports}"
     )
     return 0 if ok else 1
 
@@ -386,6 +390,7 @@ def _main(argv: list[str] | None = None) -> int:
     b.add_argument(
         "--jobs", type=int, default=None, help="build the parts in N processes (default: one per available core)"
     )
+    b.add_argument("--force", action="store_true", help="rebuild every part, changed or not")
     a = sub.add_parser("analyse", aliases=["analyze"], help="print the planting metrics of a part script's arms")
     a.add_argument("script", help="part script")
     a.add_argument("--plots", metavar="DIR", help="also write path and kinematics plots to DIR")

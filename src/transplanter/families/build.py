@@ -8,9 +8,19 @@ from pathlib import Path
 
 from transplanter import inputs
 from transplanter.errors import ExportError, PartScriptError
-from transplanter.export import Transaction, json_bytes
+from transplanter.export import Transaction, json_bytes, leftovers
 from transplanter.families import workers
-from transplanter.families.manifest import plain_name, previous_manifest, script_record, seal, sha256
+from transplanter.families.manifest import (
+    BUILD_RECORD,
+    intact,
+    part_key,
+    plain_name,
+    previous_manifest,
+    read_build_record,
+    script_record,
+    seal,
+    sha256,
+)
 from transplanter.families.scripts import Family
 from transplanter.families.study import Built
 from transplanter.report import family_report
@@ -24,8 +34,10 @@ def build_family(
     progress: Callable[[str], None] | None = None,
     outcomes: dict[str, Built | str] | None = None,
     beside: dict[str, bytes] | None = None,
+    force: bool = False,
 ) -> dict:
-    """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest.
+    """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest, with
+    ``build`` (which parts were kept or rebuilt and why; not written into the file).
 
     The manifest (also written as ``manifest.json``) lists for each part its parameters,
     results, files with SHA-256, or its error (:func:`workers.part_outcome`). ``manifest["ok"]`` is
@@ -38,6 +50,12 @@ def build_family(
     until the new one is complete, then the new one; a failing part keeps its previous files
     (listed under ``previous_files``), files of parts no longer in the script are gone, and a
     second build of the same folder meanwhile is refused.
+
+    **Only what changed is rebuilt** (unless ``force``): a part whose key (:func:`manifest.part_key`:
+    the package's code and the part's own content) is the last build's, and whose files are all
+    there with their digests, is kept — its files carried over, its record as it was; so the folder
+    equals a full rebuild byte for byte. Nothing at all changed: nothing is written. Which parts
+    were kept or rebuilt, and why, is recorded beside the folder (``.<family>.build.json``).
     """
     root = inputs.folder("out_dir", out_dir) / family.name
     manifest: dict = {"family": family.name, "description": family.description, "parts": {}, "ok": True}
@@ -48,9 +66,20 @@ def build_family(
             else None
         )
         manifest["script"] = script_record(family.script, family.modules, written)
+    old = previous_manifest(root)
+    keys, kept = _reusable(family, root, old, force, manifest.get("script"))
+    rebuilt = {p.name: _why(p.name, keys, root) for p in family.parts if p.name not in kept}
+    decided = {"kept": sorted(kept), "rebuilt": rebuilt, "forced": force}
+    if not rebuilt and not beside and _unchanged(root, family, manifest, old):
+        return {**old, "build": decided}  # nothing changed: nothing touched
+    beside = {**(beside or {}), BUILD_RECORD.format(name=family.name): json_bytes({"keys": keys, **decided})}
     with Transaction(root, beside) as tx:
-        old = previous_manifest(root)
         for part in family.parts:
+            if part.name in kept:
+                for fname in kept[part.name]["files"]:
+                    tx.keep(fname)
+                manifest["parts"][part.name] = kept[part.name]
+                continue
             if outcomes is None:
                 outcome = workers.part_outcome(part, root)
                 if progress is not None:
@@ -66,10 +95,10 @@ def build_family(
                 continue
             failed: dict = {"error": outcome}
             before = old.get("parts", {}).get(part.name, {})
-            kept = before.get("files", before.get("previous_files", {}))
-            kept = {f: h for f, h in sorted(kept.items()) if plain_name(f) and tx.keep(f)}
-            if kept:
-                failed["previous_files"] = kept
+            previous = before.get("files", before.get("previous_files", {}))
+            previous = {f: h for f, h in sorted(previous.items()) if plain_name(f) and tx.keep(f)}
+            if previous:
+                failed["previous_files"] = previous
             manifest["parts"][part.name] = failed
             manifest["ok"] = False
         report = family_report(manifest)
@@ -77,7 +106,54 @@ def build_family(
         manifest["report"] = {"report.html": sha256(report)}
         manifest = seal(manifest)
         tx.write("manifest.json", json_bytes(manifest))
-    return manifest
+    return {**manifest, "build": decided}
+
+
+def _reusable(family: Family, root: Path, old: dict, force: bool, script: dict | None = None) -> tuple[dict, dict]:
+    """Each part's key, and the parts that may be kept: ``{name: their last record}`` for those
+    whose key is the last build's and whose files are intact (nothing when ``force``). ``script``:
+    the family's script record, as the manifest will hold it (default: read from disk)."""
+    design = {}
+    if family.script:  # the files that define a study kind a script brings: module name -> digest
+        record = script or script_record(family.script, family.modules)
+        design = {"transplanter_part_script": record["sha256"]}
+        design |= {Path(m).stem: d for m, d in record.get("modules", {}).items()}
+    keys = {p.name: part_key(p, design) for p in family.parts}
+    if force or not old:
+        return keys, {}
+    last = read_build_record(root).get("keys", {})
+    kept = {}
+    for name, key in keys.items():
+        prev = old.get("parts", {}).get(name)
+        if key is not None and last.get(name) == key and isinstance(prev, dict) and "error" not in prev:
+            if intact(root, prev):
+                kept[name] = prev
+    return keys, kept
+
+
+def _why(name: str, keys: dict, root: Path) -> str:
+    """Why a part is rebuilt, in words."""
+    last = read_build_record(root).get("keys", {})
+    if keys[name] is None:
+        return "its content cannot be keyed (always rebuilt)"
+    if name not in last:
+        return "new, or no record of its last build"
+    return "changed (its content or the package's code)" if last[name] != keys[name] else "its files changed"
+
+
+def _unchanged(root: Path, family: Family, manifest: dict, old: dict) -> bool:
+    """Every part kept, the manifest the same but for its parts (script, description) and the
+    folder holding exactly its files, nothing left by an interrupted build: it would be rewritten
+    byte for byte, so it is not written at all."""
+    head = {k: v for k, v in manifest.items() if k != "parts"}
+    if not old or any(old.get(k) != v for k, v in head.items()):
+        return False
+    if set(old.get("parts", {})) != {p.name for p in family.parts} or leftovers(root):
+        return False
+    listed = {"manifest.json", *old.get("report", {})}
+    for rec in old["parts"].values():
+        listed.update(rec.get("files", {}))
+    return {p.name for p in root.iterdir()} == listed
 
 
 def build_families(
@@ -85,9 +161,11 @@ def build_families(
     out_dir: str | Path,
     jobs: int = 1,
     progress: Callable[[str], None] | None = None,
+    force: bool = False,
 ) -> list[dict]:
     """Build ``families`` into ``out_dir``, their parts spread over ``jobs`` processes; returns
-    their manifests in order.
+    their manifests in order. Parts that have not changed are kept (:func:`build_family`; all
+    rebuilt with ``force``).
 
     The parts are handed out longest kind first (gear pairs, trains, cams, ...) to whichever
     process is free, and each family is written (:func:`build_family`) as soon as its last part
@@ -98,22 +176,24 @@ def build_families(
     if len(set(names)) != len(names):  # serial or not: the last would replace the first's export
         raise PartScriptError(f"two part scripts define the same family name: {sorted(names)}")
     if jobs <= 1:
-        return [build_family(f, out_dir, progress) for f in families]
+        return [build_family(f, out_dir, progress, force=force) for f in families]
     from concurrent.futures import FIRST_COMPLETED, wait
     from concurrent.futures.process import BrokenProcessPool
 
     workers.FAMILIES.clear()
     workers.FAMILIES.update((f.name, f) for f in families)
-    tasks = [(f, p) for f in families for p in f.parts]
+    out = inputs.folder("out_dir", out_dir)
+    keep = {f.name: _reusable(f, out / f.name, previous_manifest(out / f.name), force)[1] for f in families}
+    tasks = [(f, p) for f in families for p in f.parts if p.name not in keep[f.name]]
     tasks.sort(key=lambda t: -t[1].cost)  # the longest first; stable: script order within a cost
     outcomes: dict[str, dict] = {f.name: {} for f in families}
     manifests: dict[str, dict] = {}
     try:
         with workers.executor(jobs) as pool:
             pending = {pool.submit(workers.outcome, f.name, f.script, p.name): (f, p) for f, p in tasks}
-            for f in families:  # a family without parts is written at once
-                if not f.parts:
-                    manifests[f.name] = build_family(f, out_dir, outcomes={})
+            for f in families:  # a family without parts to build is written at once
+                if len(keep[f.name]) == len(f.parts):
+                    manifests[f.name] = build_family(f, out_dir, outcomes={}, force=force)
             while pending:
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
@@ -127,8 +207,8 @@ def build_families(
                         ) from exc
                     if progress is not None:
                         progress(f"{f.name}/{p.name}")
-                    if len(outcomes[f.name]) == len(f.parts):
-                        manifests[f.name] = build_family(f, out_dir, outcomes=outcomes[f.name])
+                    if len(outcomes[f.name]) + len(keep[f.name]) == len(f.parts):
+                        manifests[f.name] = build_family(f, out_dir, outcomes=outcomes[f.name], force=force)
     finally:
         workers.FAMILIES.clear()
     return [manifests[n] for n in names]

@@ -11,12 +11,18 @@ told apart from the build's — a seal against edits, not a signature (whoever e
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 from pathlib import Path
 
 __all__ = [
+    "BUILD_RECORD",
     "MAX_MANIFEST_BYTES",
+    "intact",
+    "package_digest",
+    "part_key",
+    "read_build_record",
     "check_manifest",
     "plain_name",
     "previous_manifest",
@@ -125,3 +131,73 @@ def check_manifest(manifest) -> None:
         raise ValueError("'report' is not a table of plain file names")
     if not isinstance(manifest.get("script", {}), dict):
         raise ValueError("'script' is not a record")
+
+
+# -- what a part was built from: its key, for rebuilding only what changed ---------------------
+
+#: the record of the last build beside a family folder (not in it: the export stays byte-identical
+#: to a full rebuild): ``{"keys": {part: key}, "kept": [...], "rebuilt": {part: why}}``
+BUILD_RECORD = ".{name}.build.json"
+
+
+@functools.cache
+def package_digest() -> str:
+    """SHA-256 of the package's own code (every ``.py`` file under ``transplanter/``, by path)."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def part_key(part, design: dict[str, str] | None = None) -> str | None:
+    """What a part's files follow from, as one digest: the package's code, the part's kind and
+    everything it holds — every number, curve and option, pickled by value with cloudpickle
+    (dask's pickler: functions the part's data refers to are pickled with their code) — so a part
+    is rebuilt when any of them changed and kept otherwise. A kind defined outside the package (a
+    study class in a part script or a design module beside it) is keyed by the digest of the file
+    that defines it too (``design``: module name -> digest; its code is the kind's code; a kind
+    from elsewhere is keyed by all of them). None when the part cannot be pickled (always rebuilt)."""
+    import dataclasses
+
+    import cloudpickle
+
+    kind = type(part)
+    ident = f"{kind.__module__}.{kind.__qualname__}"
+    if not kind.__module__.startswith("transplanter."):
+        design = design or {}
+        ident += "@" + design.get(kind.__module__, sha256(json.dumps(design, sort_keys=True).encode()))
+    try:
+        held = (
+            [getattr(part, f.name) for f in dataclasses.fields(part)] if dataclasses.is_dataclass(part) else vars(part)
+        )
+        data = cloudpickle.dumps(held, protocol=5)
+    except Exception:  # an object the pickler refuses: no key, always rebuilt
+        return None
+    return sha256(package_digest().encode() + ident.encode() + b"\0" + data)
+
+
+def read_build_record(root: Path) -> dict:
+    """The record of the last build of the family folder ``root`` ({} if none or damaged)."""
+    path = root.parent / BUILD_RECORD.format(name=root.name)
+    try:
+        if path.is_symlink():
+            return {}
+        record = json.loads(path.read_text())
+        return record if isinstance(record, dict) and isinstance(record.get("keys"), dict) else {}
+    except (OSError, ValueError, RecursionError):
+        return {}
+
+
+def intact(root: Path, record: dict) -> bool:
+    """Every file a part record lists is in ``root`` as a regular file with its SHA-256."""
+    files = record.get("files")
+    if not isinstance(files, dict) or not files:
+        return False
+    for name, digest in files.items():
+        path = root / name
+        if not plain_name(name) or path.is_symlink() or not path.is_file():
+            return False
+        if sha256(path.read_bytes()) != digest:
+            return False
+    return True
