@@ -21,6 +21,7 @@ from hypothesis import strategies as st
 from transplanter import cli, inputs
 from transplanter.errors import PartScriptError, SpecError, TransplanterError
 from transplanter.pitch.transmission import ratio_from_csv, transmission
+from transplanter.testing import SQUARE_SCRIPT as SQUARE
 
 #: a case that takes longer than this is a hang, s
 CASE_LIMIT_S = 60
@@ -320,22 +321,6 @@ def test_a_bad_timeout_is_named(capsys, tmp_path, value, words):
 
 
 # -- checked folders and their manifests -------------------------------------------------------
-
-SQUARE = """
-from transplanter.families import Family
-from transplanter.families.study import Built, StudyDefaults
-from dataclasses import dataclass
-
-@dataclass(frozen=True)
-class Square(StudyDefaults):
-    name: str
-    cost = 1
-    def build(self, out):
-        return Built({"kind": "square", "parameters": {}, "results": {"area": 9.0}}, {"sq.txt": b"9\\n"})
-
-def family():
-    return Family("squares", "a square", (Square("sq"),))
-"""
 
 
 @pytest.fixture

@@ -11,32 +11,7 @@ import pytest
 from transplanter import cli
 from transplanter.errors import ExportError
 from transplanter.export import Transaction, recover
-
-SQUARE = """
-from dataclasses import dataclass
-
-from transplanter.families import Built, Checked, Family, StudyDefaults
-
-
-@dataclass(frozen=True)
-class Square(StudyDefaults):
-    name: str
-    side: float
-    cost = 1
-
-    def build(self, out):
-        data = f"{self.side ** 2:.6f}\\n".encode()
-        return Built({"kind": "square", "parameters": {"side": self.side}, "results": {"area": self.side ** 2}},
-                     {f"{self.name}.txt": data})
-
-    def check(self, files):
-        area = float(files[f"{self.name}.txt"])
-        return Checked({"area": area}, [] if area == self.side ** 2 else [f"area {area}"])
-
-
-def family():
-    return Family("squares", "a square", (Square("sq", 3.0),))
-"""
+from transplanter.testing import SQUARE_SCRIPT as SQUARE
 
 #: a script that leaves a mark when it runs
 MARKER = "import pathlib\npathlib.Path({marker!r}).write_text('ran')\n"
