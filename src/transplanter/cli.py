@@ -220,7 +220,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
             print(f"  file {fname}: {problem}")
         for name, part in rep["parts"].items():
             res = part["results"]
-            if "shop_files_reread" in res:
+            if res.get("shop_files_reread"):  # parts without shop files: nothing to say
                 n = res["shop_files_reread"]
                 print(f"  {name}: {n} shop file{'s' if n != 1 else ''} re-read (DXF, STL)")
             if "data_files_reproduced" in res:
