@@ -16,7 +16,7 @@ from transplanter.meshing import MeshReport
 from transplanter.pitch import GearPair
 from transplanter.precision import significant
 
-__all__ = ["TrainReport", "train_check"]
+__all__ = ["TrainReport", "train_check", "turned_within_play"]
 
 
 @dataclass(frozen=True)
@@ -88,3 +88,11 @@ def train_check(train, report: MeshReport) -> TrainReport:
     dev = np.linalg.norm(made.tip - design.tip, axis=1)
     att = np.angle(np.exp(1j * (made.attitude - design.attitude)))
     return TrainReport(theta, dev, att, meshed)
+
+
+def turned_within_play(train, report: MeshReport, turn: float):
+    """``train`` rebuilt from the parts' meshing in ``report`` with every planet turned a further
+    ``turn`` rad (its attitude where the play lets it sit: ± half the free play over the planet's
+    pitch radius), for judging the objectives at the worst place the play allows."""
+    error = np.asarray(report.driven_error, dtype=float) + float(turn)
+    return dataclasses.replace(train, pair=_MeshedPair(train.pair, report.driver_angle, error))

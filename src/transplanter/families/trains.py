@@ -25,6 +25,7 @@ from transplanter.pair_gate import generate_pair
 from transplanter.planetary import DifferentialTrain
 from transplanter.precision import rounded, significant
 from transplanter.solids import circle_polygon
+from transplanter.train_rebuild import turned_within_play
 
 __all__ = ["PlanetaryStudy", "TrainProof"]
 
@@ -49,6 +50,24 @@ class TrainProof:
     @property
     def centre_distance(self) -> float:
         return self.train.pair.centre_distance
+
+    def _under_play(self, report, module: float, turn: float) -> dict:
+        """Each objective's worst value and margin with the planets turned to either end of the
+        play (± ``turn`` rad, the bound the proof states over the arm's length) on the train rebuilt
+        from the parts: the margins that survive the pair's own play (figures; issue 27 asks a
+        re-design to keep v >= 2 deg, i >= 3 mm, vi >= 2 mm of them)."""
+        worst: dict = {}
+        for sign in (-1.0, 1.0):
+            found = seed004_objectives(turned_within_play(self.train, report, sign * turn), self.site, module)
+            for o in found:
+                margin = min(o.value - o.low, o.high - o.value)
+                key = f"{o.number} {o.name}"
+                if key not in worst or margin < worst[key][1]:
+                    worst[key] = (o.value, margin, o.unit)
+        return {
+            "turn_deg": rounded(math.degrees(turn), 6),
+            **{k: f"{v:.4g} {u} (margin {m:+.3g})".replace("  ", " ") for k, (v, m, u) in worst.items()},
+        }
 
     def carrier(self) -> dict:
         """How many planets to make, and where they sit on the carrier."""
@@ -88,6 +107,8 @@ class TrainProof:
             )
         if found:
             res["note"] = "from the contact at the pitch point; the problems above are ignored"
+        if self.site is not None and source == "dxf":  # the shop's file: the objectives where its play lets the arm sit
+            res["objectives_under_play"] = self._under_play(report, module, bound / self.train.arm.tip)
         if self.site is not None:
             objectives = seed004_objectives(check.made, self.site, module)
             res["objectives"] = {f"{o.number} {o.name}": f"{o.verdict} (limit {o.limit})" for o in objectives}
