@@ -80,7 +80,7 @@ def build_family(
                     tx.keep(fname)
                 manifest["parts"][part.name] = kept[part.name]
                 continue
-            if outcomes is None:
+            if outcomes is None or part.name not in outcomes:  # (a kept part whose files changed meanwhile)
                 outcome = workers.part_outcome(part, root)
                 if progress is not None:
                     progress(f"{family.name}/{part.name}")
