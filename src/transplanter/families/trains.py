@@ -55,17 +55,29 @@ class TrainProof:
         """Each objective's worst value and margin with the planets turned to either end of the
         play (± ``turn`` rad, the bound the proof states over the arm's length) on the train rebuilt
         from the parts: the margins that survive the pair's own play (figures; issue 27 asks a
-        re-design to keep v >= 2 deg, i >= 3 mm, vi >= 2 mm of them)."""
+        re-design to keep v >= 2 deg, i >= 3 mm, vi >= 2 mm of them), and the needle tip's envelope
+        over a carrier turn (720 positions): its largest distance from the design path."""
         worst: dict = {}
+        theta = 2 * math.pi * np.arange(720) / 720  # carrier turn
+        design = self.train.state(theta).tip
+        envelope = np.zeros(len(theta))
         for sign in (-1.0, 1.0):
-            found = seed004_objectives(turned_within_play(self.train, report, sign * turn), self.site, module)
+            played = turned_within_play(self.train, report, sign * turn)
+            envelope = np.maximum(envelope, np.linalg.norm(played.state(theta).tip - design, axis=1))
+            found = seed004_objectives(played, self.site, module)
             for o in found:
                 margin = min(o.value - o.low, o.high - o.value)
                 key = f"{o.number} {o.name}"
                 if key not in worst or margin < worst[key][1]:
                     worst[key] = (o.value, margin, o.unit)
+        at = int(np.argmax(envelope))
         return {
             "turn_deg": rounded(math.degrees(turn), 6),
+            # the needle tip's envelope under the play: how far from the design path it can sit
+            "tip_envelope_mm": {
+                "max": rounded(float(envelope[at]), 6),
+                "at_carrier_deg": rounded(math.degrees(theta[at]), 3),
+            },
             **{k: f"{v:.4g} {u} (margin {m:+.3g})".replace("  ", " ") for k, (v, m, u) in worst.items()},
         }
 
