@@ -35,6 +35,7 @@ def build_family(
     outcomes: dict[str, Built | str] | None = None,
     beside: dict[str, bytes] | None = None,
     force: bool = False,
+    reuse: tuple[dict, dict, dict] | None = None,
 ) -> dict:
     """Build every part of ``family`` into ``out_dir/<family.name>/``; returns the manifest, with
     ``build`` (which parts were kept or rebuilt and why; not written into the file).
@@ -56,6 +57,8 @@ def build_family(
     there with their digests, is kept — its files carried over, its record as it was; so the folder
     equals a full rebuild byte for byte. Nothing at all changed: nothing is written. Which parts
     were kept or rebuilt, and why, is recorded beside the folder (``.<family>.build.json``).
+    ``reuse`` is that decision made already (:func:`_reusable`, by :func:`build_families` before it
+    hands out the parts).
     """
     root = inputs.folder("out_dir", out_dir) / family.name
     manifest: dict = {"family": family.name, "description": family.description, "parts": {}, "ok": True}
@@ -67,8 +70,8 @@ def build_family(
         )
         manifest["script"] = script_record(family.script, family.modules, written)
     old = previous_manifest(root)
-    keys, kept = _reusable(family, root, old, force, manifest.get("script"))
-    rebuilt = {p.name: _why(p.name, keys, root) for p in family.parts if p.name not in kept}
+    keys, kept, last = reuse or _reusable(family, root, old, force, manifest.get("script"))
+    rebuilt = {p.name: _why(keys[p.name], last.get(p.name)) for p in family.parts if p.name not in kept}
     decided = {"kept": sorted(kept), "rebuilt": rebuilt, "forced": force}
     if not rebuilt and not beside and _unchanged(root, family, manifest, old):
         return {**old, "build": decided}  # nothing changed: nothing touched
@@ -109,36 +112,38 @@ def build_family(
     return {**manifest, "build": decided}
 
 
-def _reusable(family: Family, root: Path, old: dict, force: bool, script: dict | None = None) -> tuple[dict, dict]:
-    """Each part's key, and the parts that may be kept: ``{name: their last record}`` for those
-    whose key is the last build's and whose files are intact (nothing when ``force``). ``script``:
-    the family's script record, as the manifest will hold it (default: read from disk)."""
+def _reusable(
+    family: Family, root: Path, old: dict, force: bool, script: dict | None = None
+) -> tuple[dict, dict, dict]:
+    """Each part's key, the parts that may be kept (``{name: their last record}`` for those whose
+    key is the last build's and whose files are intact; nothing when ``force``) and the last
+    build's keys. ``script``: the family's script record, as the manifest will hold it (default:
+    read from disk)."""
     design = {}
     if family.script:  # the files that define a study kind a script brings: module name -> digest
         record = script or script_record(family.script, family.modules)
         design = {"transplanter_part_script": record["sha256"]}
         design |= {Path(m).stem: d for m, d in record.get("modules", {}).items()}
     keys = {p.name: part_key(p, design) for p in family.parts}
-    if force or not old:
-        return keys, {}
     last = read_build_record(root).get("keys", {})
+    if force or not old:
+        return keys, {}, last
     kept = {}
     for name, key in keys.items():
         prev = old.get("parts", {}).get(name)
         if key is not None and last.get(name) == key and isinstance(prev, dict) and "error" not in prev:
             if intact(root, prev):
                 kept[name] = prev
-    return keys, kept
+    return keys, kept, last
 
 
-def _why(name: str, keys: dict, root: Path) -> str:
-    """Why a part is rebuilt, in words."""
-    last = read_build_record(root).get("keys", {})
-    if keys[name] is None:
+def _why(key: str | None, last: str | None) -> str:
+    """Why a part with ``key`` is rebuilt (``last``: its key at the last build), in words."""
+    if key is None:
         return "its content cannot be keyed (always rebuilt)"
-    if name not in last:
+    if last is None:
         return "new, or no record of its last build"
-    return "changed (its content or the package's code)" if last[name] != keys[name] else "its files changed"
+    return "changed (its content or the package's code)" if last != key else "its files changed"
 
 
 def _unchanged(root: Path, family: Family, manifest: dict, old: dict) -> bool:
@@ -183,7 +188,8 @@ def build_families(
     workers.FAMILIES.clear()
     workers.FAMILIES.update((f.name, f) for f in families)
     out = inputs.folder("out_dir", out_dir)
-    keep = {f.name: _reusable(f, out / f.name, previous_manifest(out / f.name), force)[1] for f in families}
+    reuse = {f.name: _reusable(f, out / f.name, previous_manifest(out / f.name), force) for f in families}
+    keep = {name: decided[1] for name, decided in reuse.items()}  # the parts not handed out
     tasks = [(f, p) for f in families for p in f.parts if p.name not in keep[f.name]]
     tasks.sort(key=lambda t: -t[1].cost)  # the longest first; stable: script order within a cost
     outcomes: dict[str, dict] = {f.name: {} for f in families}
@@ -193,7 +199,7 @@ def build_families(
             pending = {pool.submit(workers.outcome, f.name, f.script, p.name): (f, p) for f, p in tasks}
             for f in families:  # a family without parts to build is written at once
                 if len(keep[f.name]) == len(f.parts):
-                    manifests[f.name] = build_family(f, out_dir, outcomes={}, force=force)
+                    manifests[f.name] = build_family(f, out_dir, outcomes={}, force=force, reuse=reuse[f.name])
             while pending:
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
@@ -208,7 +214,9 @@ def build_families(
                     if progress is not None:
                         progress(f"{f.name}/{p.name}")
                     if len(outcomes[f.name]) + len(keep[f.name]) == len(f.parts):
-                        manifests[f.name] = build_family(f, out_dir, outcomes=outcomes[f.name], force=force)
+                        manifests[f.name] = build_family(
+                            f, out_dir, outcomes=outcomes[f.name], force=force, reuse=reuse[f.name]
+                        )
     finally:
         workers.FAMILIES.clear()
     return [manifests[n] for n in names]

@@ -23,7 +23,7 @@ from transplanter import formats
 from transplanter.errors import ExportError, PartScriptError, SpecError
 from transplanter.export import interrupted_swap, leftovers
 from transplanter.families import workers
-from transplanter.families.manifest import read_manifest, seal_matches, sha256
+from transplanter.families.manifest import listed_file, plain_name, read_manifest, seal_matches, sha256
 from transplanter.families.scripts import Family, load_family
 from transplanter.families.study import Checked
 
@@ -60,7 +60,7 @@ def trusted_script(root: Path, recorded: dict, script: str | Path | None) -> Pat
         )
     for name, digest in sorted(recorded.get("modules", {}).items()):
         module = real.parent / str(name)
-        if not isinstance(name, str) or os.sep in name or not module.is_file() or sha256(module.read_bytes()) != digest:
+        if not plain_name(name) or not module.is_file() or sha256(module.read_bytes()) != digest:
             raise PartScriptError(
                 f"{root}: refusing to run {path}: the module {name!r} beside it is missing or is not the one the "
                 "build imported (SHA-256 differs)"
@@ -72,21 +72,11 @@ def _read_files(root: Path, listed: dict, out: dict) -> dict[str, bytes]:
     """The listed files' bytes (``{name: sha256}``), each problem into ``out["files"]``."""
     files = {}
     for fname, digest in listed.items():
-        f = root / fname
-        if f.is_symlink():
-            out["files"][fname] = "a symbolic link: not followed"
-            continue
-        if not f.is_file():
-            out["files"][fname] = "missing"
-            continue
-        try:
-            data = f.read_bytes()
-        except OSError as exc:
-            out["files"][fname] = f"cannot be read: {exc.strerror or exc}"
-            continue
-        if sha256(data) != digest:
-            out["files"][fname] = "changed since the build (SHA-256 differs)"
-        files[fname] = data
+        data, problem = listed_file(root, fname, digest)
+        if problem:
+            out["files"][fname] = problem
+        if data is not None:  # a changed file is still checked
+            files[fname] = data
     return files
 
 

@@ -20,6 +20,7 @@ __all__ = [
     "BUILD_RECORD",
     "MAX_MANIFEST_BYTES",
     "intact",
+    "listed_file",
     "package_digest",
     "part_key",
     "read_build_record",
@@ -189,15 +190,25 @@ def read_build_record(root: Path) -> dict:
         return {}
 
 
+def listed_file(root: Path, name: str, digest: str) -> tuple[bytes | None, str]:
+    """A file a manifest lists, as found in ``root``: its bytes (None when they cannot be had) and
+    what is wrong with it ("" when nothing): a symbolic link is not followed, a missing or
+    unreadable file is said, and bytes that are not the listed digest's."""
+    path = root / name
+    if path.is_symlink():
+        return None, "a symbolic link: not followed"
+    if not path.is_file():
+        return None, "missing"
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        return None, f"cannot be read: {exc.strerror or exc}"
+    return data, "" if sha256(data) == digest else "changed since the build (SHA-256 differs)"
+
+
 def intact(root: Path, record: dict) -> bool:
     """Every file a part record lists is in ``root`` as a regular file with its SHA-256."""
     files = record.get("files")
     if not isinstance(files, dict) or not files:
         return False
-    for name, digest in files.items():
-        path = root / name
-        if not plain_name(name) or path.is_symlink() or not path.is_file():
-            return False
-        if sha256(path.read_bytes()) != digest:
-            return False
-    return True
+    return all(plain_name(name) and not listed_file(root, name, digest)[1] for name, digest in files.items())
