@@ -206,17 +206,15 @@ def prism(contours: list[tuple[np.ndarray, bool]], width: float):
     return occ.BRepPrimAPI_MakePrism(face.Face(), occ.gp_Vec(0.0, 0.0, float(width))).Shape()
 
 
-def _cuts(contours, count: int) -> list[tuple[int, int]] | None:
+def _cuts(outer, inner, inner_ring, others, count: int) -> list[tuple[int, int]] | None:
     """``count`` cuts across the material, each ``(inner vertex, outer vertex)``: a straight line
-    from a vertex of the largest hole to the outline's vertex nearest its angle, inside the section
-    (arcs flattened to 1 µm) and 0.05 mm clear of every other hole, in order of angle; None when
+    from a vertex of the largest hole ``inner`` (bulge vertices; ``inner_ring`` its points) to the
+    vertex of the outline ``outer`` nearest its angle, inside the section (arcs flattened to 1 µm)
+    and 0.05 mm clear of every other hole (``others``, polygons), in order of angle; None when
     fewer than two are found."""
-    outer = next(v for v, hole in contours if not hole)
-    holes = [v for v, hole in contours if hole]
-    inner = max(holes, key=lambda v: abs(bulge_area(v)))
-    section = shapely.Polygon(bulge_points(outer, 1e-3), [bulge_points(h, 1e-3) for h in holes])
+    section = shapely.Polygon(bulge_points(outer, 1e-3), [inner_ring, *(h.exterior.coords for h in others)])
     shapely.prepare(section)
-    others = shapely.union_all([shapely.Polygon(bulge_points(h, 1e-3)).buffer(0.05) for h in holes if h is not inner])
+    others = shapely.union_all([h.buffer(0.05) for h in others])
     angle_in = np.arctan2(inner[:, 1], inner[:, 0]) % (2 * math.pi)
     angle_out = np.arctan2(outer[:, 1], outer[:, 0]) % (2 * math.pi)
     radius_in = np.hypot(inner[:, 0], inner[:, 1])
@@ -247,22 +245,24 @@ def _sectors(occ, contours, width: float):
     (gmsh, FreeCAD, OCP) grows with the square of a face's edge count: the seed-004 ring's
     5744-edge faces took 56 s in gmsh, its 72 sectors 4.8 s. None where the section has no hole or
     no cuts are found (the caller makes the plain prism)."""
-    if not any(hole for _, hole in contours):
-        return None
-    count = max(2, round(sum(len(v) for v, _ in contours) / SECTOR_EDGES))
-    cuts = _cuts(contours, count)
-    if cuts is None:
+    holes = [v for v, hole in contours if hole]
+    if not holes:
         return None
     outer = next(v for v, hole in contours if not hole)
-    holes = [v for v, hole in contours if hole]
     inner = max(holes, key=lambda v: abs(bulge_area(v)))
+    # the other holes, each to go into the sector that holds it
+    rest = [(h, shapely.Polygon(bulge_points(h, 1e-3))) for h in holes if h is not inner]
+    count = max(2, round(sum(len(v) for v, _ in contours) / SECTOR_EDGES))
+    cuts = _cuts(outer, inner, bulge_points(inner, 1e-3), [p for _, p in rest], count)
+    inside = [(h, p.representative_point()) for h, p in rest]
+    if cuts is None:
+        return None
     out_v, out_e = _edges(occ, outer)
     in_v, in_e = _edges(occ, inner)
     cut_e = [occ.BRepBuilderAPI_MakeEdge(in_v[a], out_v[b]).Edge() for a, b in cuts]
     builder = occ.BRep_Builder()
     shell = occ.TopoDS_Shell()
     builder.MakeShell(shell)
-    rest = [(h, shapely.Polygon(bulge_points(h, 1e-3)).representative_point()) for h in holes if h is not inner]
     n_out, n_in = len(outer), len(inner)
     for k in range(len(cuts)):
         (a0, b0), (a1, b1) = cuts[k], cuts[(k + 1) % len(cuts)]
@@ -273,7 +273,7 @@ def _sectors(occ, contours, width: float):
         outline = [outer[(b0 + j) % n_out, :2] for j in range((b1 - b0) % n_out + 1)]
         outline += [inner[(a1 + j) % n_in, :2] for j in range((a0 - a1) % n_in + 1)]
         region = shapely.Polygon(outline)
-        for h, point in rest:
+        for h, point in inside:
             if region.is_valid and region.contains(point):
                 face.Add(_wire(occ, h))
         if not face.IsDone():
