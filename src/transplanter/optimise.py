@@ -107,9 +107,6 @@ class OptimisationResult:
     seconds: float
     history: tuple[float, ...] = field(repr=False)
 
-    def named(self, problem: Problem) -> dict[str, float]:
-        return {name: v for (name, _, _), v in zip(problem.variables, self.x, strict=True)}
-
 
 @contextmanager
 def _evaluator(workers: int, scheduler: str | None):
