@@ -191,8 +191,7 @@ def describe(x) -> dict[str, str]:
     _, found, objectives, rules = evaluate(x, cut=False)
     out = {}
     for o in objectives:
-        margin = min(o.value - o.low, o.high - o.value)
-        out[f"{o.number} {o.name}"] = f"{o.value:.4g} {o.unit} (margin {margin:+.3g})".replace("  ", " ")
+        out[f"{o.number} {o.name}"] = f"{o.value:.4g} {o.unit} (margin {o.margin:+.3g})".replace("  ", " ")
     for what, value, limit, unit in rules:
         out[what] = f"{value:.4g} {unit} (limit {limit:g})"
     return out

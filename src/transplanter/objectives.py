@@ -117,6 +117,11 @@ class Objective:
         return " ".join(x for x in (f"{self.value:.4g}", self.unit, "pass" if self.ok else "FAIL") if x)
 
     @property
+    def margin(self) -> float:
+        """How far inside the limits, in the value's unit (negative: how far outside)."""
+        return min(self.value - self.low, self.high - self.value)
+
+    @property
     def shortfall(self) -> float:
         """How far outside the limits, in the value's unit (0 inside)."""
         return max(0.0, self.low - self.value, self.value - self.high)

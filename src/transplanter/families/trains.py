@@ -66,10 +66,9 @@ class TrainProof:
             envelope = np.maximum(envelope, np.linalg.norm(played.state(theta).tip - design, axis=1))
             found = seed004_objectives(played, self.site, module)
             for o in found:
-                margin = min(o.value - o.low, o.high - o.value)
                 key = f"{o.number} {o.name}"
-                if key not in worst or margin < worst[key][1]:
-                    worst[key] = (o.value, margin, o.unit)
+                if key not in worst or o.margin < worst[key][1]:
+                    worst[key] = (o.value, o.margin, o.unit)
         at = int(np.argmax(envelope))
         return {
             "turn_deg": rounded(math.degrees(turn), 6),
