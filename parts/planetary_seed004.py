@@ -35,7 +35,16 @@ from _seed004 import (
 
 from transplanter.cutter import ShaperCutter
 from transplanter.cutter_choice import coarsest_cut
-from transplanter.families import Family, Making, PitchPairStudy, PlanetaryStudy, ToothedPairStudy, TrainProof
+from transplanter.families import (
+    Family,
+    Layers,
+    Making,
+    PitchPairStudy,
+    PlanetaryMachineStudy,
+    PlanetaryStudy,
+    ToothedPairStudy,
+    TrainProof,
+)
 from transplanter.proportions import CUTTER_ADDENDUM, RING_RIM
 from transplanter.solids import Features
 
@@ -63,6 +72,17 @@ SWEEP = (0.6, 0.8, 1.1, 1.2)  # ratio-variation factors for the trade-off plot
 # tolerance budget; at 0.94 m the smallest mid-play clearance is 18.6 µm and the smallest
 # free play 0.097 mm (was 0.074 mm), contact ratio 1.28 (was 1.29).
 PLANET_ADDENDUM = 0.94  # modules
+
+# -- the machine ---------------------------------------------------------------------------
+# Planes across the machine, mm from the ring's back face: the ring and planets, the carrier
+# (the planet shafts through it), then the arm plates on the shafts' ends, and the needles bolted
+# on the plates' outer faces. Drawn in one plane an arm plate crosses another arm's needle (the
+# build says by how much), so plates and needles sit in two planes; the needles all share one,
+# as seed 004's objective i has them.
+LAYERS = Layers(gears=(0.0, WIDTH), carrier=(WIDTH, 2 * WIDTH), plates=(26.0, 34.0), needles=(34.0, 40.0))
+CLEARANCE = 3.0  # mm, between any two bodies that could meet (moving parts, box, soil)
+ARM_PLATE = Making(width=8.0)  # mm thick, steel; bore, key and needle holes set by the study
+NEEDLE = Making(width=6.0)  # mm thick flat needle, 6 mm wide
 
 
 def ring_bolt_holes(pair, module: float) -> tuple:
@@ -114,21 +134,22 @@ def made_parts(published) -> tuple:
     pair = optimised.pair
     cut = coarsest_cut(pair, max_module=MODULE_RANGE[1], min_module=MODULE_RANGE[0])
     planet_shafts = Features.bolt_circle(3, pair.centre_distance, PLANET_BORE, bore=CARRIER_BORE)
+    gears = ToothedPairStudy(
+        "optimised_ring_planet",
+        pair,
+        ShaperCutter(cut.cutter_teeth),
+        teeth=cut.teeth[0],
+        making=(
+            Making(width=WIDTH, features=Features(holes=ring_bolt_holes(pair, cut.module))),
+            Making(width=WIDTH, features=Features(bore=PLANET_BORE)),
+        ),
+        addendum=(cut.ring_addendum, min(cut.pinion_addendum, PLANET_ADDENDUM)),
+        trim_ring_tips=False,
+        train=TrainProof(optimised, SITE),
+    )
     return (
         PitchPairStudy("optimised_pitch", pair, teeth=cut.teeth[0]),  # ν, curvature, convexity
-        ToothedPairStudy(
-            "optimised_ring_planet",
-            pair,
-            ShaperCutter(cut.cutter_teeth),
-            teeth=cut.teeth[0],
-            making=(
-                Making(width=WIDTH, features=Features(holes=ring_bolt_holes(pair, cut.module))),
-                Making(width=WIDTH, features=Features(bore=PLANET_BORE)),
-            ),
-            addendum=(cut.ring_addendum, min(cut.pinion_addendum, PLANET_ADDENDUM)),
-            trim_ring_tips=False,
-            train=TrainProof(optimised, SITE),
-        ),
+        gears,
         PlanetaryStudy(
             "optimised_train",
             optimised,
@@ -145,6 +166,18 @@ def made_parts(published) -> tuple:
                 Making(width=WIDTH, features=planet_shafts),
             ),
             tradeoff=tuple((f"ratio variation x{f:g}", design_train(scaled(OPTIMUM, f))) for f in SWEEP),
+        ),
+        # the whole machine, posed from the gears' and the carrier's files: the arms as parts
+        PlanetaryMachineStudy(
+            "machine",
+            optimised,
+            gears,
+            carrier="optimised_train",
+            site=SITE,
+            layers=LAYERS,
+            clearance=CLEARANCE,
+            plate=ARM_PLATE,
+            needle=NEEDLE,
         ),
     )
 

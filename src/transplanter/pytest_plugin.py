@@ -152,6 +152,8 @@ class PartItem(pytest.Item):
         if record is None or "error" in record:
             raise PartFailure(f"the part did not build: {record['error'] if record else 'not in the manifest'}")
         files = {name: (root / name).read_bytes() for name in record["files"]}
+        for used in getattr(self.part, "uses", ()) or ():  # a machine's proofs read its gears' files too
+            files = {**{n: (root / n).read_bytes() for n in manifest["parts"][used].get("files", {})}, **files}
         checked = self.part.check(files)
         if checked is not None and checked.problems and not checked.expected:
             raise PartFailure("its proofs fail on its own files:\n  " + "\n  ".join(checked.problems))

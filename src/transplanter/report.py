@@ -45,6 +45,13 @@ _UNITS = (
     ("_s", "s"),
 )
 _SHOP = (".dxf", ".stl", ".step", ".3mf")
+#: a machine's slider script (``animation.slider_script``): the page gives it a canvas and a range
+SLIDER_SUFFIX = ".slider.js"
+_SLIDER = (
+    "<div class='machine'><canvas width='560' height='560'></canvas><br>"
+    "<input type='range' min='0' max='0' value='0' style='width:560px' aria-label='driver angle'>"
+    "<br><output></output></div><script src='{src}'></script>"
+)
 #: figures closer to zero than this are shown as 0 (the manifest keeps them as computed)
 ROUND_OFF = 1e-6
 #: the units a metric record may carry, written the way the page writes units
@@ -147,7 +154,7 @@ def part_status(rec: dict) -> tuple[str, str]:
     shop = rec.get("results", {}).get("shop_files")
     if isinstance(shop, str) and shop.startswith("withheld"):
         return "withheld", f"withheld as a finding — {shop.removeprefix('withheld: ')}; no shop files were written"
-    made = sorted(f for f in rec.get("files", {}) if f.endswith(_SHOP))
+    made = sorted(f for f in rec.get("files", {}) if f.endswith(_SHOP) and not f.endswith(".obstacle.dxf"))
     if made:
         return "built", f"built — shop files: {', '.join(made)}"
     return "built", "built — analysis only (no shop files for this kind of part)"
@@ -175,14 +182,16 @@ def family_report(manifest: dict) -> bytes:
             continue
         out.append(f"<p>kind: {html.escape(rec.get('kind', ''))}</p>")
         for fname in sorted(rec.get("files", {})):
-            if fname.endswith(".png"):
+            if fname.endswith((".png", ".gif")):
                 out.append(f"<img src='{html.escape(fname)}' alt='{html.escape(fname)}'>")
+            elif fname.endswith(SLIDER_SUFFIX):  # a machine's cycle to scrub (animation.slider_script)
+                out.append(_SLIDER.format(src=html.escape(fname)))
         out.append(_grouped("results", rec.get("results", {})))
         out.append(_grouped("parameters", rec.get("parameters", {}), folded=True))
         links = " ".join(
             f"<a href='{html.escape(f)}'>{html.escape(f)}</a>"
             for f in sorted(rec.get("files", {}))
-            if not f.endswith((".png", ".svg"))
+            if not f.endswith((".png", ".svg", ".gif", SLIDER_SUFFIX))
         )
         out.append(f"<p>files: {links}</p>")
     out.append("</body></html>\n")

@@ -224,10 +224,11 @@ def part_solid(blank, cuts, features: Features, width: float, hub: tuple[float, 
         collar = manifold3d.Manifold.extrude(_cross_section(circle_polygon(0.0, 0.0, dia / 2)), length)
         body = body + collar.translate((0.0, 0.0, -length))
         depth = w + length
-    tools = [cuts, *features.cuts()]
-    tool = manifold3d.Manifold.extrude(_cross_section(shapely.union_all(tools)), depth + 2.0)
-    lowest = -(depth - w) - 1.0
-    solid = body - tool.translate((0.0, 0.0, lowest))
+    tools = shapely.union_all([cuts, *features.cuts()])
+    solid = body
+    if not tools.is_empty:  # (extruding nothing is an invalid construction in manifold3d)
+        tool = manifold3d.Manifold.extrude(_cross_section(tools), depth + 2.0)
+        solid = body - tool.translate((0.0, 0.0, -(depth - w) - 1.0))
     check_solid(solid)
     return solid
 

@@ -16,7 +16,7 @@ from transplanter.meshing import MeshReport
 from transplanter.pitch import GearPair
 from transplanter.precision import significant
 
-__all__ = ["TrainReport", "train_check", "turned_within_play"]
+__all__ = ["TrainReport", "meshed_train", "train_check", "turned_within_play"]
 
 
 @dataclass(frozen=True)
@@ -80,14 +80,21 @@ def train_check(train, report: MeshReport) -> TrainReport:
     """Rebuild ``train`` (a ``planetary.DifferentialTrain``) with the planet attitude from the
     parts' meshing in ``report`` (from :func:`mesh_check` of its ring and planet) and compare the
     needle tip with the designed one at every meshing step (ring body angle → carrier angle)."""
-    pair = train.pair
-    meshed = dataclasses.replace(train, pair=_MeshedPair(pair, report.driver_angle, report.driven_error))
+    meshed = meshed_train(train, report.driver_angle, report.driven_error)
     # arm I's contact is at ring body angle -(1 - ω1/ω2) θ
     theta = (2 * math.pi - report.driver_angle) / (1.0 - train.speed_ratio)
     design, made = train.state(theta), meshed.state(theta)
     dev = np.linalg.norm(made.tip - design.tip, axis=1)
     att = np.angle(np.exp(1j * (made.attitude - design.attitude)))
     return TrainReport(theta, dev, att, meshed)
+
+
+def meshed_train(train, driver_angle, driven_error):
+    """``train`` with its planets turned by the measured meshing: ``driven_error`` (rad, the
+    driven gear's rotation beyond the design angle at driving-flank contact) at ring body angles
+    ``driver_angle`` (rad), interpolated periodically between them."""
+    angle, error = np.asarray(driver_angle, dtype=float), np.asarray(driven_error, dtype=float)
+    return dataclasses.replace(train, pair=_MeshedPair(train.pair, angle, error))
 
 
 def turned_within_play(train, report: MeshReport, turn: float):

@@ -32,6 +32,12 @@ Study kinds so far
     frame's ANNOTATION layer), STL, STEP, a 3MF of the plates assembled at crank angle 0, and
     the proof: the four-bar rebuilt from the holes re-read from the DXF follows the designed
     tip path within 1 µm.
+``PlanetaryMachineStudy``
+    Seed 004's whole machine from its gears' files (``uses``): the planting arms as parts (arm
+    plate and needle: DXF, STL, STEP), every body posed over the cycle from the re-read gears'
+    meshing, the clearance of every two bodies that could meet (bounded, not sampled),
+    objectives i and ii on the bodies, the motion table, an animated GIF, a slider for the
+    report and a 3MF of the machine's parts.
 ``PitchPairStudy``
     A conjugate pair of pitch curves: closure, ratio check, curvature, pressure angle,
     tooth count and module (JSON), the curves as CSV points, and plots.
@@ -64,6 +70,7 @@ from transplanter.families.checking import check_families, check_family
 from transplanter.families.gear_pair import gear_pair, pair_family
 from transplanter.families.gears import MESH_STEPS, ToothedPairStudy
 from transplanter.families.linkage import ArmStudy, BalancingStudy
+from transplanter.families.machine import Layers, PlanetaryMachineStudy
 from transplanter.families.making import Making
 from transplanter.families.pitch import PitchPairStudy
 from transplanter.families.plates import Joint, LinkPlatesStudy
@@ -74,6 +81,8 @@ from transplanter.families.trains import PlanetaryStudy, TrainProof
 from transplanter.families.workers import part_outcome
 
 __all__ = [
+    "Layers",
+    "PlanetaryMachineStudy",
     "Study",
     "StudyDefaults",
     "Built",

@@ -76,19 +76,22 @@ def build_family(
     if not rebuilt and not beside and _unchanged(root, family, manifest, old):
         return {**old, "build": decided}  # nothing changed: nothing touched
     beside = {**(beside or {}), BUILD_RECORD.format(name=family.name): json_bytes({"keys": keys, **decided})}
+    made: dict[str, dict[str, bytes] | str] = {}  # each part's files, for the parts that use them
     with Transaction(root, beside) as tx:
         for part in family.parts:
             if part.name in kept:
                 for fname in kept[part.name]["files"]:
                     tx.keep(fname)
                 manifest["parts"][part.name] = kept[part.name]
+                made[part.name] = _kept_files(root, kept[part.name]) if _used_later(family, part.name) else {}
                 continue
             if outcomes is None or part.name not in outcomes:  # (a kept part whose files changed meanwhile)
-                outcome = workers.part_outcome(part, root)
+                outcome = _outcome(part, root, made)
                 if progress is not None:
                     progress(f"{family.name}/{part.name}")
             else:
                 outcome = outcomes[part.name]
+            made[part.name] = outcome if isinstance(outcome, str) else outcome[1]
             if not isinstance(outcome, str):
                 record, files = outcome
                 for fname, data in sorted(files.items()):
@@ -112,6 +115,32 @@ def build_family(
     return {**manifest, "build": decided}
 
 
+def _used_later(family: Family, name: str) -> bool:
+    return any(name in workers.uses(p) for p in family.parts)
+
+
+def _kept_files(root: Path, record: dict) -> dict[str, bytes]:
+    """The files of a kept part, as its last build left them (digests checked by ``intact``)."""
+    return {fname: (root / fname).read_bytes() for fname in record.get("files", {})}
+
+
+def _used(part, made: dict) -> dict[str, bytes] | str:
+    """The files of the parts ``part`` uses (``made``: part -> files, or its error), or why it
+    cannot be built."""
+    files: dict[str, bytes] = {}
+    for name in workers.uses(part):
+        got = made.get(name)
+        if got is None or isinstance(got, str):
+            return f"PartError: {part.name} is built from the files of {name}, which failed to build"
+        files.update(got)
+    return files
+
+
+def _outcome(part, root: Path, made: dict):
+    used = _used(part, made)
+    return used if isinstance(used, str) else workers.part_outcome(part, root, used)
+
+
 def _reusable(
     family: Family, root: Path, old: dict, force: bool, script: dict | None = None
 ) -> tuple[dict, dict, dict]:
@@ -125,6 +154,11 @@ def _reusable(
         design = {"transplanter_part_script": record["sha256"]}
         design |= {Path(m).stem: d for m, d in record.get("modules", {}).items()}
     keys = {p.name: part_key(p, design) for p in family.parts}
+    for p in family.parts:  # a part built from others' files changes when they do
+        deps = [keys[u] for u in workers.uses(p)]
+        if deps:
+            key = keys[p.name]
+            keys[p.name] = None if key is None or None in deps else sha256("\0".join([key, *deps]).encode())
     last = read_build_record(root).get("keys", {})
     if force or not old:
         return keys, {}, last
@@ -194,13 +228,36 @@ def build_families(
     tasks.sort(key=lambda t: -t[1].cost)  # the longest first; stable: script order within a cost
     outcomes: dict[str, dict] = {f.name: {} for f in families}
     manifests: dict[str, dict] = {}
+
+    def files_of(f: Family, name: str):  # a part's files, or its error, for a part that uses them
+        if name in keep[f.name]:
+            return _kept_files(out / f.name, keep[f.name][name])
+        got = outcomes[f.name][name]
+        return got if isinstance(got, str) else got[1]
+
+    def waiting(f: Family, p) -> bool:
+        return any(u not in keep[f.name] and u not in outcomes[f.name] for u in workers.uses(p))
+
     try:
         with workers.executor(jobs) as pool:
-            pending = {pool.submit(workers.outcome, f.name, f.script, p.name): (f, p) for f, p in tasks}
+            pending: dict = {}
+
+            def hand_out() -> None:  # every task whose used parts are done, longest first
+                for f, p in [t for t in tasks if not waiting(*t)]:
+                    tasks.remove((f, p))
+                    used = _used(p, {u: files_of(f, u) for u in workers.uses(p)}) if workers.uses(p) else None
+                    if isinstance(used, str):
+                        outcomes[f.name][p.name] = used
+                        continue
+                    pending[pool.submit(workers.outcome, f.name, f.script, p.name, used)] = (f, p)
+
+            hand_out()
             for f in families:  # a family without parts to build is written at once
                 if len(keep[f.name]) == len(f.parts):
                     manifests[f.name] = build_family(f, out_dir, outcomes={}, force=force, reuse=reuse[f.name])
-            while pending:
+            while pending or tasks:
+                if not pending:  # (cannot happen: a part uses only parts listed before it)
+                    raise ExportError(f"parts wait for parts that are not built: {[p.name for _, p in tasks]}")
                 done, _ = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
                     f, p = pending.pop(fut)
@@ -213,7 +270,9 @@ def build_families(
                         ) from exc
                     if progress is not None:
                         progress(f"{f.name}/{p.name}")
-                    if len(outcomes[f.name]) + len(keep[f.name]) == len(f.parts):
+                hand_out()
+                for f in families:
+                    if f.name not in manifests and len(outcomes[f.name]) + len(keep[f.name]) == len(f.parts):
                         manifests[f.name] = build_family(
                             f, out_dir, outcomes=outcomes[f.name], force=force, reuse=reuse[f.name]
                         )

@@ -168,6 +168,8 @@ def check_family(
             results, problems = _reread(files)
             expected = rec.get("parameters", {}).get("must_mesh") is False
         else:
+            for used in workers.uses(part):  # a machine's checks read its gears' files too
+                files = {**_read_files(root, manifest["parts"].get(used, {}).get("files", {}), out), **files}
             results, problems, expected = _proofs(part, root, files)
         out["parts"][name] = {"results": results, "problems": problems, "expected": expected}
         out["ok"] = out["ok"] and (expected or not problems)

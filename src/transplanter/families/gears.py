@@ -246,7 +246,9 @@ class ToothedPairStudy(StudyDefaults):
         DXF is the design turned about its axis); a pair built as a finding (``must_mesh``
         False) is expected not to mesh."""
         proof = self.proof
-        results, _, problems = proof.results(proof.mesh(files))
+        reports = proof.mesh(files)
+        results, _, problems = proof.results(reports)
+        problems += pair_assembly.meshing_table_problems(files, f"{self.name}.dxf_meshing.csv", reports.get("dxf"))
         made, more = self._check_made(files)
         results["made"] = made
         return Checked(results, proof.turned(files) + problems + more, expected=not self.must_mesh)

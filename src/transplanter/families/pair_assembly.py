@@ -29,7 +29,19 @@ from transplanter.meshing import MeshReport
 from transplanter.precision import rounded
 from transplanter.teeth import ToothedGear
 
-__all__ = ["MARK_DIAMETER", "MARK_WALL", "MOTION_ROWS", "Made", "assemble", "bodies", "make", "timing_mark"]
+__all__ = [
+    "MESHING_COLUMNS",
+    "meshing_csv",
+    "read_meshing_csv",
+    "MARK_DIAMETER",
+    "MARK_WALL",
+    "MOTION_ROWS",
+    "Made",
+    "assemble",
+    "bodies",
+    "make",
+    "timing_mark",
+]
 
 #: timing-mark hole (external gears) or rim notch (rings): largest diameter, mm, and the
 #: smallest wall left to the root, the bore and other holes, mm
@@ -214,6 +226,51 @@ def _motion_csv(pair) -> bytes:
     return csv_bytes(["driver_clockwise_deg", "driven_counterclockwise_deg"], rows)
 
 
+#: a meshing table read back may differ from a fresh meshing by this, rad (CSV round-off)
+MESHING_TABLE_RAD = 1e-9
+#: columns of ``<pair>.dxf_meshing.csv``
+MESHING_COLUMNS = ("driver_clockwise_deg", "driven_error_deg")
+
+
+def meshing_csv(report: MeshReport) -> bytes:
+    """The meshing measured on the re-read DXFs, per step of the proof: the driver's angle and
+    the driven gear's rotation beyond its design angle at driving-flank contact (deg)."""
+    order = np.argsort(report.driver_angle, kind="stable")
+    rows = [
+        [math.degrees(float(a)), math.degrees(float(e))]
+        for a, e in zip(np.asarray(report.driver_angle)[order], np.asarray(report.driven_error)[order], strict=True)
+    ]
+    return csv_bytes(list(MESHING_COLUMNS), rows)
+
+
+def read_meshing_csv(data: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """(driver angle, driven error), rad, from :func:`meshing_csv`'s bytes."""
+    text = data.decode().splitlines()
+    if not text or tuple(text[0].split(",")) != MESHING_COLUMNS:
+        raise GeometryError(f"not a meshing table: its header must be {','.join(MESHING_COLUMNS)}")
+    values = np.array([[float(v) for v in line.split(",")] for line in text[1:] if line], dtype=float)
+    return np.radians(values[:, 0]), np.radians(values[:, 1])
+
+
+def meshing_table_problems(files: dict[str, bytes], name: str, report) -> list[str]:
+    """The meshing table ``name`` (when in ``files``) against the meshing of the DXFs as found
+    (``report``): what a machine posed from it would get wrong, or nothing."""
+    if name not in files or report is None or isinstance(report, str):
+        return []
+    try:
+        angle, error = read_meshing_csv(files[name])
+    except (ValueError, GeometryError) as exc:
+        return [f"{name} cannot be read: {exc}"]
+    order = np.argsort(report.driver_angle, kind="stable")
+    if len(angle) != len(order):
+        return [f"{name} has {len(angle)} rows, the meshing of the DXFs {len(order)} steps"]
+    off = max(
+        float(np.max(np.abs(angle - np.asarray(report.driver_angle)[order]))),
+        float(np.max(np.abs(error - np.asarray(report.driven_error)[order]))),
+    )
+    return [f"{name} is not the meshing of the DXFs as found ({off:.3g} rad off)"] if off > MESHING_TABLE_RAD else []
+
+
 def assemble(
     cut: CutPair, made: Made, dxf: MeshReport, min_clearance: float | None, train: TrainHook | None
 ) -> tuple[dict, dict[str, bytes], dict]:
@@ -225,6 +282,8 @@ def assemble(
         role: step_file(made.parts[role], out) for role, making in zip(ROLES, made.making, strict=True) if making.step
     }
     out[f"{cut.name}.motion.csv"] = _motion_csv(cut.pair)
+    if train is not None:  # what poses the train's machine: the meshing measured on the DXFs
+        out[f"{cut.name}.dxf_meshing.csv"] = meshing_csv(dxf)
     a = record
     out[f"{cut.name}.assembly.dxf"] = formats.DXF.assembly(
         cut.name,

@@ -68,6 +68,11 @@ class Family:
             _check_name("part", p.name)
             if p.name in seen:
                 raise PartScriptError(f"family {self.name!r}: part name {p.name!r} is used twice")
+            for used in getattr(p, "uses", ()) or ():
+                if used not in seen:
+                    raise PartScriptError(
+                        f"family {self.name!r}: part {p.name!r} uses {used!r}, which is not a part listed before it"
+                    )
             seen.add(p.name)
 
 

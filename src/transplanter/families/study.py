@@ -63,6 +63,11 @@ class Study(Protocol):
 
     ``name`` names its files; ``cost`` (relative build time, ~1 for an analysis, 10 for a gear
     pair) lets a parallel build hand out the longest parts first.
+
+    **Parts built from other parts' files.** A study may name earlier parts of its family in
+    ``uses`` (a machine posed from its gears' re-read DXFs): the builder then builds those first
+    and calls ``build_using(out, files)`` with their files (name -> bytes) instead of ``build``;
+    ``check`` gets their files beside its own, and the part is rebuilt whenever one of them is.
     """
 
     name: str

@@ -70,12 +70,20 @@ class TrainProof:
                 if key not in worst or o.margin < worst[key][1]:
                     worst[key] = (o.value, o.margin, o.unit)
         at = int(np.argmax(envelope))
+        # where it matters: at the picking point (deepest into the box) and the push (lowest)
+        box, slope = np.asarray(self.site.seedling_box, dtype=float), self.site.box_slope
+        pick = int(np.argmax((design - box) @ np.array([math.cos(slope), math.sin(slope)])))
+        push = int(np.argmin(design[:, 1]))
         return {
             "turn_deg": rounded(math.degrees(turn), 6),
             # the needle tip's envelope under the play: how far from the design path it can sit
             "tip_envelope_mm": {
                 "max": rounded(float(envelope[at]), 6),
                 "at_carrier_deg": rounded(math.degrees(theta[at]), 3),
+                "at_picking": rounded(float(envelope[pick]), 6),
+                "picking_at_carrier_deg": rounded(math.degrees(theta[pick]), 3),
+                "at_pushing": rounded(float(envelope[push]), 6),
+                "pushing_at_carrier_deg": rounded(math.degrees(theta[push]), 3),
             },
             **{k: f"{v:.4g} {u} (margin {m:+.3g})".replace("  ", " ") for k, (v, m, u) in worst.items()},
         }

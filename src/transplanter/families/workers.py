@@ -9,14 +9,17 @@ from transplanter.errors import TransplanterError
 from transplanter.families.scripts import Family, load_family
 from transplanter.families.study import Built, Study
 
-__all__ = ["FAMILIES", "executor", "outcome", "part_outcome"]
+__all__ = ["FAMILIES", "executor", "outcome", "part_outcome", "uses"]
 
 
-def part_outcome(part: Study, root: Path) -> Built | str:
+def part_outcome(part: Study, root: Path, used: dict[str, bytes] | None = None) -> Built | str:
     """Build one part: its :class:`~transplanter.families.study.Built` (record, files), or the
     error the manifest records for it — any exception a part raises is its failure (a project
-    error by its message; anything else with its type, as a bug to report)."""
+    error by its message; anything else with its type, as a bug to report). A part that uses
+    others' files (``uses``) is given them, ``used`` (file name -> bytes)."""
     try:
+        if uses(part):
+            return Built(*part.build_using(root, used or {}))
         return Built(*part.build(root))
     except TransplanterError as exc:
         return f"{type(exc).__name__}: {exc}"
@@ -38,8 +41,13 @@ def executor(jobs: int):
     return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
 
 
-def outcome(family: str, script: str | None, part: str):
+def uses(part: Study) -> tuple[str, ...]:
+    """The names of the parts whose files ``part`` is built from (its ``uses``; none for most)."""
+    return tuple(getattr(part, "uses", ()) or ())
+
+
+def outcome(family: str, script: str | None, part: str, used: dict[str, bytes] | None = None):
     fam = FAMILIES.get(family)
     if fam is None:  # a worker that was not forked from the builder: load the script itself
         fam = FAMILIES[family] = load_family(script)
-    return part_outcome(next(p for p in fam.parts if p.name == part), Path("."))
+    return part_outcome(next(p for p in fam.parts if p.name == part), Path("."), used)
