@@ -225,13 +225,13 @@ def test_the_slider_scrubs_the_cycle_in_headless_chromium(built, tmp_path):
 
 
 class _Uses(StudyDefaults):
-    def __init__(self, name, uses=()):
-        self.name, self.uses = name, tuple(uses)
+    def __init__(self, name, uses=(), payload=""):
+        self.name, self.uses, self.payload = name, tuple(uses), payload
 
     def build(self, out):
         if self.name == "broken":
             raise ValueError("broken on purpose")
-        return Built({"kind": "t", "results": {}}, {f"{self.name}.txt": self.name.encode()})
+        return Built({"kind": "t", "results": {}}, {f"{self.name}.txt": (self.name + self.payload).encode()})
 
     def build_using(self, out, files):
         return Built(
@@ -244,6 +244,12 @@ def test_a_part_is_built_from_the_files_of_the_parts_it_uses(tmp_path):
     manifest = build_family(fam, tmp_path)
     assert manifest["parts"]["b"]["results"]["got"] == ["a.txt"]
     assert (tmp_path / "uses_demo" / "b.txt").read_bytes() == b"a"
+    # nothing changed: both kept; the used part changed: the part that uses it is rebuilt too
+    again = build_family(Family("uses_demo", "d", (_Uses("a"), _Uses("b", ["a"]))), tmp_path)
+    assert again["build"]["kept"] == ["a", "b"]
+    changed = build_family(Family("uses_demo", "d", (_Uses("a", payload="!"), _Uses("b", ["a"]))), tmp_path)
+    assert sorted(changed["build"]["rebuilt"]) == ["a", "b"]
+    assert (tmp_path / "uses_demo" / "b.txt").read_bytes() == b"a!"
     failed = build_family(Family("uses_fail", "d", (_Uses("broken"), _Uses("c", ["broken"]))), tmp_path)
     assert "built from the files of broken, which failed" in failed["parts"]["c"]["error"]
     with pytest.raises(PartScriptError, match="not a part listed before it"):

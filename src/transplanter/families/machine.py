@@ -541,4 +541,13 @@ class PlanetaryMachineStudy(StudyDefaults):
             before = was.get(tuple(row["bodies"]))
             if before is None or abs(before - row["min_mm"]) > 1e-6:
                 problems.append(f"{' and '.join(row['bodies'])}: {row['min_mm']} mm now, {before} mm recorded")
-        return Checked({"clearances": judged["record"]["clearances"]}, problems)
+        rows = [r for r in judged["record"]["clearances"] if "working" not in r]
+        near = min(rows, key=lambda r: r["min_mm"])
+        summary = {
+            "pairs_judged": len(rows),
+            "smallest_mm": near["min_mm"],
+            "between": " - ".join(near["bodies"]),
+            "at_driver_deg": near["at_driver_deg"],
+            "required_mm": self.clearance,
+        }
+        return Checked({"clearances": summary}, problems)
