@@ -8,7 +8,6 @@ import csv
 import io
 import json
 import math
-import shutil
 
 import ezdxf
 import ezdxf.path
@@ -178,45 +177,23 @@ def test_a_narrow_approach_between_samples_is_bracketed():
     assert found.bound <= truth and math.cos(found.theta + math.pi / 8) > 0.999
 
 
-@pytest.mark.skipif(
-    not (shutil.which("chromium") and shutil.which("chromedriver")), reason="Chromium/ChromeDriver not installed"
-)
-def test_the_slider_scrubs_the_cycle_in_headless_chromium(built, tmp_path):
+def test_the_slider_scrubs_the_cycle_in_headless_chromium(built, browser):
     """report.html opened from the file in headless Chromium: the machine's slider is moved with
     the keyboard, the canvas changes and the read-out names the angle, each arm's phase and the
     smallest clearance."""
-    webdriver = pytest.importorskip("selenium.webdriver")
-    from selenium.webdriver.chrome.service import Service
     from selenium.webdriver.common.by import By
     from selenium.webdriver.common.keys import Keys
 
-    options = webdriver.ChromeOptions()
-    for arg in (
-        "--headless=new",
-        "--no-sandbox",
-        "--disable-gpu",
-        "--disable-dev-shm-usage",
-        "--disable-background-networking",
-        "--no-first-run",
-        f"--user-data-dir={tmp_path / 'profile'}",
-    ):
-        options.add_argument(arg)
-    driver = webdriver.Chrome(service=Service(shutil.which("chromedriver")), options=options)
-    try:
-        driver.get((built / "planetary_seed004" / "report.html").as_uri())
-        box = driver.find_element(By.CSS_SELECTOR, "div.machine")
-        driver.execute_script("arguments[0].scrollIntoView()", box)
-        canvas, slider, out = (box.find_element(By.TAG_NAME, t) for t in ("canvas", "input", "output"))
-        slider.send_keys(Keys.HOME)
-        first_text, first = out.text, canvas.screenshot_as_png
-        for _ in range(90):
-            slider.send_keys(Keys.ARROW_RIGHT)
-        second_text, second = out.text, canvas.screenshot_as_png
-        (tmp_path / "slider_0.png").write_bytes(first)
-        (tmp_path / "slider_90.png").write_bytes(second)
-        errors = [e for e in driver.get_log("browser") if e.get("level") == "SEVERE"]
-    finally:
-        driver.quit()
+    browser.get((built / "planetary_seed004" / "report.html").as_uri())
+    box = browser.find_element(By.CSS_SELECTOR, "div.machine")
+    browser.execute_script("arguments[0].scrollIntoView()", box)
+    canvas, slider, out = (box.find_element(By.TAG_NAME, t) for t in ("canvas", "input", "output"))
+    slider.send_keys(Keys.HOME)
+    first_text, first = out.text, canvas.screenshot_as_png
+    for _ in range(90):
+        slider.send_keys(Keys.ARROW_RIGHT)
+    second_text, second = out.text, canvas.screenshot_as_png
+    errors = [e for e in browser.get_log("browser") if e.get("level") == "SEVERE"]
     assert first_text.startswith("driver 0.0 deg") and second_text.startswith("driver 90.0 deg")
     for text in (first_text, second_text):
         assert "arm 1: " in text and "arm 3: " in text and "smallest clearance" in text

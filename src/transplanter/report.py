@@ -26,7 +26,8 @@ td, th { border: 1px solid #ddd; padding: 0.2em 0.6em; text-align: left; vertica
 td.v { font-family: monospace; text-align: right; } td.u { color: #666; }
 .error { color: #b00; font-weight: bold; } .withheld { color: #a60; font-weight: bold; }
 .built { color: #070; font-weight: bold; }
-img { max-width: 100%; border: 1px solid #eee; margin: 0.5em 0; }
+img { max-width: 49%; border: 1px solid #eee; margin: 0.5em 0.2em; vertical-align: top; }
+details { margin: 0.4em 0; } summary { cursor: pointer; }
 """
 
 #: key suffix -> unit shown (longest first)
@@ -52,6 +53,8 @@ _SLIDER = (
     "<input type='range' min='0' max='0' value='0' style='width:560px' aria-label='driver angle'>"
     "<br><output></output></div><script src='{src}'></script>"
 )
+#: a results topic longer than this many rows is folded (``<details>``), mm of page saved
+OPEN_ROWS = 8
 #: figures closer to zero than this are shown as 0 (the manifest keeps them as computed)
 ROUND_OFF = 1e-6
 #: the units a metric record may carry, written the way the page writes units
@@ -135,14 +138,18 @@ def _grouped(title: str, value: dict, folded: bool = False) -> str:
     head = f"<summary><b>{title}</b></summary>" if folded else f"<h3>{title}</h3>"
     out = ["<details>" if folded else "", head, _table(_rows("", scalars)), _table(metrics)]
     for key in sorted(k for k, v in value.items() if isinstance(v, dict) and not _metric(v)):
-        out.append(f"<h4>{html.escape(_label(key)[0])}</h4>")
         topic = value[key]
         if "columns" in topic and "rows" in topic:
-            out.append(_matrix(topic))
             rest = {k: v for k, v in topic.items() if k not in ("columns", "rows")}
-            out.append(_table(_rows("", rest)))
+            body, n = _matrix(topic) + _table(_rows("", rest)), len(topic["rows"]) + len(rest)
         else:
-            out.append(_table(_rows("", topic)))
+            rows = _rows("", topic)
+            body, n = _table(rows), len(rows)
+        name = html.escape(_label(key)[0])
+        if n > OPEN_ROWS and not folded:  # a long topic folded: the page stays short, the figures a click away
+            out.append(f"<details><summary><b>{name}</b> ({n} rows)</summary>{body}</details>")
+        else:
+            out.append(f"<h4>{name}</h4>{body}")
     out.append("</details>" if folded else "")
     return "".join(out)
 
