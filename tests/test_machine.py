@@ -150,6 +150,12 @@ def test_objectives_i_and_ii_on_bodies_and_why_two_planes(built):
     assert i["min_mm"] >= i["limit_mm"] and ii["min_mm"] >= ii["limit_mm"] and res["objectives_on_bodies"]["all_met"]
     assert i["margin_mm"] == pytest.approx(i["min_mm"] - i["limit_mm"], abs=1e-6)
     assert i["needle_lines_mm"] >= 10.0  # the needle-line figure of objective i, as a second column
+    # with each planet anywhere in its play the needles come closer, by no more than the turn
+    # times both needles' reach, and still keep the clearance
+    play = res["machine"]["under_play"]
+    reach = 168.0  # mm, a needle's farthest point from its planet's centre
+    assert i["min_mm"] - 2 * math.radians(play["turn_deg"]) * reach <= i["under_play_mm"] < i["min_mm"]
+    assert i["under_play_mm"] >= i["limit_mm"] and play["below_clearance"] == [] and play["measured"] >= 3
     # in one plane an arm plate meets another arm's needle: the layout needs two planes
     assert res["one_plane"]["min_mm"] == 0.0 and "two planes" in res["one_plane"]["finding"]
     for row in res["machine"]["clearances"]:

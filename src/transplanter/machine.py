@@ -36,6 +36,8 @@ __all__ = [
     "PlanetaryMachine",
     "pairs_to_judge",
     "clearances",
+    "clearances_under_play",
+    "turned",
     "motion_rows",
     "MOTION_POSITIONS",
 ]
@@ -95,6 +97,9 @@ class Judged:
     at_deg: float
     bound: float
     sampled: np.ndarray = field(repr=False)
+    #: False: ``distance`` is only a lower bound (a pair settled without measuring, see
+    #: :func:`clearances_under_play`)
+    exact: bool = True
 
 
 def pairs_to_judge(bodies: list[Body], joined: set[frozenset], working: dict[frozenset, str]) -> list[Pair]:
@@ -143,6 +148,73 @@ def clearances(
     # two at a time: GEOS and numpy release the GIL for most of a pair's measuring
     with ThreadPoolExecutor(max_workers=2) as pool:
         return list(pool.map(judge, pairs))
+
+
+def turned(link: Link, turn: float) -> Link:
+    """``link`` turned a further ``turn`` rad about its frame origin (a planet at an end of its
+    play): its points move no faster than before."""
+
+    def pose(theta):
+        x, y, a = link.pose(theta)
+        return x, y, np.asarray(a, dtype=float) + turn
+
+    return Link(link.name, pose, link.speed, link.turn_rate)
+
+
+def clearances_under_play(
+    bodies: list[Body],
+    links: dict[str, Link],
+    pairs: list[Pair],
+    theta: np.ndarray,
+    turn: float,
+    playing: set[str],
+    nominal: dict[frozenset, Judged],
+    settle: float,
+    tol: float = CLEARANCE_TOL_MM,
+) -> list[Judged]:
+    """Each pair's closest approach with every link in ``playing`` (the planets) at either end of
+    its play, ± ``turn`` rad, independently: the smallest over those poses, for the pairs that
+    have a playing link (the others are not returned).
+
+    A turn of ``turn`` moves no point of a body further than ``turn`` times its reach, so a pair
+    whose ``nominal`` closest approach less those moves stays at or above ``settle`` (the
+    clearance judged against) is settled without measuring: its figure is that lower bound,
+    marked not ``exact``."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    by_name = {b.name: b for b in bodies}
+    todo = [p for p in pairs if {by_name[p.a].link, by_name[p.b].link} & playing]
+
+    def judge(p: Pair) -> Judged:
+        la, lb = by_name[p.a].link, by_name[p.b].link
+        known = nominal[frozenset((p.a, p.b))]
+        moves = sum(turn * reach(by_name[n].section) for n, ln in ((p.a, la), (p.b, lb)) if ln in playing)
+        if known.distance - moves >= settle:
+            return Judged(
+                p,
+                max(0.0, known.distance - moves),
+                known.at_deg,
+                max(0.0, known.bound - moves),
+                known.sampled,
+                exact=False,
+            )
+        signs_a = (-1.0, 1.0) if la in playing else (0.0,)
+        signs_b = (-1.0, 1.0) if lb in playing and lb != la else (0.0,)
+        worst = None
+        for sa in signs_a:
+            for sb in signs_b:
+                moved = dict(links)
+                moved[la] = turned(links[la], sa * turn)
+                if lb != la:
+                    moved[lb] = turned(links[lb], sb * turn)
+                found = closest_approach(_posed(by_name[p.a], moved), _posed(by_name[p.b], moved), theta, tol)
+                if worst is None or found.distance < worst.distance:
+                    worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
+        assert worst is not None
+        return worst
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return list(pool.map(judge, todo))
 
 
 def motion_rows(bodies: list[Body], links: dict[str, Link], theta: np.ndarray) -> tuple[list[str], list[list[str]]]:

@@ -55,6 +55,7 @@ from transplanter.machine import (
     Pair,
     PlanetaryMachine,
     clearances,
+    clearances_under_play,
     motion_rows,
     pairs_to_judge,
 )
@@ -190,6 +191,13 @@ class PlanetaryMachineStudy(StudyDefaults):
             )
         return machine, {"start_vs_assembly_record_deg": rounded(worst, 6), "error_slope": rounded(slope, 6)}
 
+    def _play(self, files: dict[str, bytes], names: dict[str, str]) -> float | None:
+        """How far each planet may turn off the driving-flank pose, rad: the bound the pair's proof
+        states over its play (``meshing.dxf.train.objectives_under_play.turn_deg``); None without."""
+        results = json.loads(files[names["record"]])["results"]
+        turn = results.get("meshing", {}).get("dxf", {}).get("train", {}).get("objectives_under_play", {})
+        return math.radians(turn["turn_deg"]) if "turn_deg" in turn else None
+
     def _obstacles(self, module: float) -> dict[str, shapely.Polygon]:
         """The seedling box and the soil as sections in the machine frame."""
         tr, site = self.train, self.site
@@ -252,7 +260,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             )
             files[f"{self.name}.{what}{OBSTACLE}"] = formats.DXF.write(part)
         machine, start = self._posed(used, record, names)
-        judged = self._judge({**used, **files}, names, machine, module)
+        judged = self._judge({**used, **files}, names, machine, module, self._play(used, names))
         results["machine"] = judged["record"]
         results["machine"]["posed_from"] = {
             "meshing": f"{names['meshing']} ({names['ring']} and {names['planet']} meshed by the pair's proof)",
@@ -326,9 +334,12 @@ class PlanetaryMachineStudy(StudyDefaults):
         bodies.append(Body("soil", read["soil"][0], span, "fixed", read["soil"][1]))
         return bodies
 
-    def _judge(self, files, names, machine: PlanetaryMachine, module: float, shown: bool = True) -> dict:
-        """Bodies, pairs, clearances, objectives on bodies and the one-plane finding; with ``shown``
-        the motion table, the animation and the slider too."""
+    def _judge(
+        self, files, names, machine: PlanetaryMachine, module: float, turn: float | None, shown: bool = True
+    ) -> dict:
+        """Bodies, pairs, clearances (and with ``turn``, rad, each planet at either end of its play),
+        objectives on bodies and the one-plane finding; with ``shown`` the motion table, the
+        animation and the slider too."""
         n = self.train.planets
         bodies = self._bodies(files, names)
         links = machine.links()
@@ -349,6 +360,16 @@ class PlanetaryMachineStudy(StudyDefaults):
             working[frozenset((f"needle_{k}", "soil"))] = "the needle plants in the soil"
         pairs = pairs_to_judge(bodies, joined, working)
         judged = clearances(bodies, links, pairs, grid)
+        played = {}
+        if turn is not None:  # the planets anywhere in their play, each independently
+            planets = {f"planet.{k}" for k in range(1, n + 1)}
+            checked = [p for p in pairs if not p.working]
+            nominal = {frozenset((j.pair.a, j.pair.b)): j for j in judged}
+            settle = max(self.clearance, BOX_CLEARANCE_MM)  # what the pairs are judged against
+            played = {
+                frozenset((j.pair.a, j.pair.b)): j
+                for j in clearances_under_play(bodies, links, checked, grid, turn, planets, nominal, settle)
+            }
         problems = [
             f"{j.pair.a} and {j.pair.b} come {j.distance:.4g} mm apart at driver {j.at_deg:.2f} deg "
             f"(clearance required {self.clearance:g} mm)"
@@ -373,7 +394,19 @@ class PlanetaryMachineStudy(StudyDefaults):
                 else f"the arms would clear in one plane too ({worst_single.distance:.3g} mm)"
             ),
         }
-        objectives = self._objectives(machine, judged, module)
+        objectives = self._objectives(machine, judged, module, played)
+        if turn is not None:
+            worst = min(played.values(), key=lambda j: j.distance)
+            under = [j for j in played.values() if j.distance < self.clearance]
+            record_play = {
+                "turn_deg": rounded(math.degrees(turn), 6),
+                "measured": sum(j.exact for j in played.values()),
+                "settled_by_the_bound": sum(not j.exact for j in played.values()),
+                "smallest_mm": rounded(worst.distance, 6),
+                "bodies": [worst.pair.a, worst.pair.b],
+                "at_driver_deg": round(worst.at_deg, 4),
+                "below_clearance": sorted(f"{j.pair.a} - {j.pair.b}: {j.distance:.4g} mm" for j in under),
+            }
         record = {
             "driver": "the carrier, deg of clockwise turn from the start",
             "frame": "the train's: carrier axis at the origin, y up, the soil below (seed 004 eqs 3-10)",
@@ -382,10 +415,13 @@ class PlanetaryMachineStudy(StudyDefaults):
             "motion": f"{self.name}.motion.csv",
             "positions": MOTION_POSITIONS,
             "clearance_required_mm": self.clearance,
-            "clearances": [self._row(j) for j in judged],
+            "clearances": [self._row(j, played.get(frozenset((j.pair.a, j.pair.b)))) for j in judged],
             "animation": f"{self.name}.animation.gif",
             "slider": f"{self.name}.slider.js",
         }
+        if turn is not None:
+            # each planet anywhere within its play (± the turn the pair's proof bounds), independently
+            record["under_play"] = record_play
         files_out = {}
         if shown:
             phases = [self._phases(t, files) for t in machine.tips(theta)]
@@ -401,7 +437,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             "bodies": bodies,
         }
 
-    def _row(self, j: Judged) -> dict:
+    def _row(self, j: Judged, played: Judged | None = None) -> dict:
         row = {
             "bodies": [j.pair.a, j.pair.b],
             "min_mm": rounded(j.distance, 6),
@@ -412,10 +448,16 @@ class PlanetaryMachineStudy(StudyDefaults):
             row["working"] = j.pair.working
         else:
             row["pass"] = bool(j.distance >= self.clearance)
+        if played is not None and played.exact:
+            row["under_play_mm"] = rounded(played.distance, 6)
+            row["under_play_at_driver_deg"] = round(played.at_deg, 4)
+        elif played is not None:  # settled by the bound: no point moves further than turn x reach
+            row["under_play_at_least_mm"] = rounded(played.distance, 6)
         return row
 
-    def _objectives(self, machine: PlanetaryMachine, judged: list[Judged], module: float) -> dict:
-        """Objectives i and ii on the bodies, beside the needle-line figures."""
+    def _objectives(self, machine: PlanetaryMachine, judged: list[Judged], module: float, played: dict) -> dict:
+        """Objectives i and ii on the bodies (and with the planets anywhere in their play), beside
+        the needle-line figures."""
         line = {o.number: o for o in seed004_objectives(machine.made, self.site, module)}
 
         def arm_of(name: str) -> str | None:
@@ -434,6 +476,7 @@ class PlanetaryMachineStudy(StudyDefaults):
                 "limit_mm": self.clearance,
                 "margin_mm": rounded(i.distance - self.clearance, 6),
                 "at_driver_deg": round(i.at_deg, 4),
+                **self._played(played, between_arms),
                 "needle_lines_mm": rounded(line["i"].value, 6),
                 "needle_lines_limit_mm": line["i"].low,
             },
@@ -443,6 +486,7 @@ class PlanetaryMachineStudy(StudyDefaults):
                 "limit_mm": BOX_CLEARANCE_MM,
                 "margin_mm": rounded(ii.distance - BOX_CLEARANCE_MM, 6),
                 "at_driver_deg": round(ii.at_deg, 4),
+                **self._played(played, at_box),
                 "knee_to_box_face_mm": rounded(line["ii"].value, 6),
                 "knee_limit_mm": line["ii"].low,
             },
@@ -456,6 +500,16 @@ class PlanetaryMachineStudy(StudyDefaults):
                 f"(limit {BOX_CLEARANCE_MM:g})"
             )
         return {**rows, "all_met": not missed, **({"missed": missed} if missed else {})}
+
+    @staticmethod
+    def _played(played: dict, among: list[Judged]) -> dict:
+        """The smallest of ``among`` with the planets anywhere in their play (nothing without)."""
+        found = [played[k] for k in (frozenset((j.pair.a, j.pair.b)) for j in among) if k in played]
+        if not found:
+            return {}
+        worst = min(found, key=lambda j: j.distance)
+        key = "under_play_mm" if worst.exact else "under_play_at_least_mm"
+        return {key: rounded(worst.distance, 6), "under_play_bodies": [worst.pair.a, worst.pair.b]}
 
     def _phases(self, tip: np.ndarray, files: dict[str, bytes]) -> list[str]:
         """The arm's phase at each position: in the box (picking), below the soil (planting), and
@@ -533,7 +587,7 @@ class PlanetaryMachineStudy(StudyDefaults):
         judged again; each must be the recorded one."""
         record, names = self._inputs(files)
         machine, _ = self._posed(files, record, names)
-        judged = self._judge(files, names, machine, float(record["module_mm"]), shown=False)
+        judged = self._judge(files, names, machine, float(record["module_mm"]), self._play(files, names), shown=False)
         stated = json.loads(files[f"{self.name}.machine.json"])
         problems = list(judged["problems"])
         was = {tuple(r["bodies"]): r["min_mm"] for r in stated["clearances"]}
