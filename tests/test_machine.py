@@ -237,3 +237,37 @@ def test_a_part_is_built_from_the_files_of_the_parts_it_uses(tmp_path):
     assert "built from the files of broken, which failed" in failed["parts"]["c"]["error"]
     with pytest.raises(PartScriptError, match="not a part listed before it"):
         Family("uses_order", "d", (_Uses("b", ["a"]), _Uses("a")))
+
+
+def test_bad_machine_input_is_named():
+    from transplanter.arm_parts import arm_parts
+    from transplanter.errors import SpecError
+    from transplanter.families import Layers
+    from transplanter.planetary import ArmGeometry
+
+    with pytest.raises(SpecError, match=r"layers\.plates = \(34, 26\)"):
+        Layers((0, 12), (12, 24), (34, 26), (34, 40))
+    arm = ArmGeometry(tip=150.0, knee=80.0, mount=-0.7)
+    with pytest.raises(SpecError, match="tab = 500"):
+        arm_parts(arm, tab=500.0)
+    with pytest.raises(SpecError, match="hub radius = 90"):
+        arm_parts(arm, hub=90.0)
+    with pytest.raises(PartScriptError, match="uses 'nowhere'"):
+        Family("uses_missing", "d", (_Uses("a"), _Uses("b", ["nowhere"])))
+
+
+def test_the_arm_parts_sit_where_the_train_puts_the_knee_and_the_tip():
+    """The plate's knee-boss holes and the needle's point are where seed 004 eqs 9-10 put A and B
+    in the planet's frame, and the needle's farthest point along it is B."""
+    from transplanter.arm_parts import arm_parts
+    from transplanter.planetary import ArmGeometry
+
+    arm = ArmGeometry(tip=167.86, knee=69.0, mount=math.radians(-37.93))
+    made = arm_parts(arm)
+    a = arm.knee * np.array([math.cos(arm.mount + arm.knee_angle), math.sin(arm.mount + arm.knee_angle)])
+    b = arm.tip * np.array([math.cos(arm.mount), math.sin(arm.mount)])
+    assert np.allclose(made.plate_holes[0][:2], a, atol=1e-9) and np.allclose(made.tip, b, atol=1e-9)
+    u = (b - a) / np.linalg.norm(b - a)
+    along = shapely.get_coordinates(made.needle) @ u
+    assert along.max() == pytest.approx(b @ u, abs=1e-3)  # the point (R0.5, polygonal) ends at B
+    assert made.plate.contains(shapely.Point(0, 0)) and made.needle.is_valid and made.plate.is_valid
