@@ -160,6 +160,9 @@ def test_objectives_i_and_ii_on_bodies_and_why_two_planes(built):
     assert res["one_plane"]["min_mm"] == 0.0 and "two planes" in res["one_plane"]["finding"]
     for row in res["machine"]["clearances"]:
         assert row.get("pass", True) and row["bound_mm"] <= row["min_mm"]
+        if "working" in row:  # a needle meets its work with its plain bar only (103 mm of it), never its tab
+            depth = row["enters_from_tip_mm"]
+            assert 10.0 < depth["deepest_from_tip_mm"] <= depth["at_most_mm"] < 103.0
 
 
 def test_a_narrow_approach_between_samples_is_bracketed():

@@ -49,6 +49,8 @@ class ArmParts:
     needle_holes: tuple[tuple[float, float, float], ...]
     knee: tuple[float, float]
     tip: tuple[float, float]
+    #: length of the plain bar from the tab's end to the tip, mm: what may enter the work
+    bar: float = 0.0
 
 
 def arm_parts(
@@ -106,4 +108,5 @@ def arm_parts(
         tuple((float(p[0]), float(p[1]), CLEARANCE_M4) for p in bolts),
         (float(a[0]), float(a[1])),
         (float(b[0]), float(b[1])),
+        float(np.linalg.norm(b - neck)),
     )

@@ -370,7 +370,15 @@ class PlanetaryMachineStudy(StudyDefaults):
                 frozenset((j.pair.a, j.pair.b)): j
                 for j in clearances_under_play(bodies, links, checked, grid, turn, planets, nominal, settle)
             }
+        depths = self._work_depths(bodies, links, theta, [j.pair for j in judged if j.pair.working])
+        arm = arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
         problems = [
+            f"{p.a} enters {p.b} {d['at_most_mm']:.4g} mm from its tip, beyond its {arm.bar:.4g} mm bar "
+            f"(at driver {d['at_driver_deg']:.1f} deg): more than the needle meets its work"
+            for p, d in depths.items()
+            if d["at_most_mm"] > arm.bar
+        ]
+        problems += [
             f"{j.pair.a} and {j.pair.b} come {j.distance:.4g} mm apart at driver {j.at_deg:.2f} deg "
             f"(clearance required {self.clearance:g} mm)"
             for j in judged
@@ -415,7 +423,9 @@ class PlanetaryMachineStudy(StudyDefaults):
             "motion": f"{self.name}.motion.csv",
             "positions": MOTION_POSITIONS,
             "clearance_required_mm": self.clearance,
-            "clearances": [self._row(j, played.get(frozenset((j.pair.a, j.pair.b)))) for j in judged],
+            "clearances": [
+                self._row(j, played.get(frozenset((j.pair.a, j.pair.b))), depths.get(j.pair)) for j in judged
+            ],
             "animation": f"{self.name}.animation.gif",
             "slider": f"{self.name}.slider.js",
         }
@@ -437,7 +447,43 @@ class PlanetaryMachineStudy(StudyDefaults):
             "bodies": bodies,
         }
 
-    def _row(self, j: Judged, played: Judged | None = None) -> dict:
+    def _work_depths(self, bodies: list[Body], links, theta: np.ndarray, pairs: list[Pair]) -> dict:
+        """How far from its tip a needle enters its work (box or soil) over the cycle: the farthest
+        point of the needle inside the obstacle, measured along the needle from the tip, at the
+        motion's positions; ``at_most_mm`` adds what it can gain between them (its points' speed
+        bound times half a step)."""
+        by_name = {b.name: b for b in bodies}
+        arm = arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
+        tip, knee = np.asarray(arm.tip), np.asarray(arm.knee)
+        u = (tip - knee) / np.linalg.norm(tip - knee)
+        out = {}
+        for p in pairs:
+            needle, work = (by_name[p.a], by_name[p.b]) if p.a.startswith("needle") else (by_name[p.b], by_name[p.a])
+            link = links[needle.link]
+            x, y, a = (np.broadcast_to(v, theta.shape) for v in link.pose(theta))
+            c, s = np.cos(a), np.sin(a)
+            ring = np.asarray(work.section.exterior.coords)
+            # the work in the needle's frame at each position (it is fixed in the machine)
+            dx, dy = ring[None, :, 0] - x[:, None], ring[None, :, 1] - y[:, None]
+            local = shapely.polygons(
+                np.stack([c[:, None] * dx + s[:, None] * dy, -s[:, None] * dx + c[:, None] * dy], -1)
+            )
+            inside = shapely.intersection(needle.section, local)
+            depth = np.zeros(len(theta))
+            for k, g in enumerate(inside):
+                pts = shapely.get_coordinates(g)
+                if len(pts):
+                    depth[k] = float(np.max((tip - pts) @ u))
+            k = int(np.argmax(depth))
+            speed = link.speed + link.turn_rate * float(np.linalg.norm(tip))
+            out[p] = {
+                "deepest_from_tip_mm": rounded(float(depth[k]), 6),
+                "at_driver_deg": round(math.degrees(theta[k]), 4),
+                "at_most_mm": rounded(float(depth[k]) + speed * math.pi / len(theta), 6),
+            }
+        return out
+
+    def _row(self, j: Judged, played: Judged | None = None, depth: dict | None = None) -> dict:
         row = {
             "bodies": [j.pair.a, j.pair.b],
             "min_mm": rounded(j.distance, 6),
@@ -446,6 +492,8 @@ class PlanetaryMachineStudy(StudyDefaults):
         }
         if j.pair.working:
             row["working"] = j.pair.working
+            if depth is not None:  # only the needle's bar enters its work
+                row["enters_from_tip_mm"] = depth
         else:
             row["pass"] = bool(j.distance >= self.clearance)
         if played is not None and played.exact:
