@@ -39,6 +39,8 @@ __all__ = [
     "clearances_under_play",
     "turned",
     "motion_rows",
+    "tool_phases",
+    "work_depth",
     "MOTION_POSITIONS",
 ]
 
@@ -215,6 +217,47 @@ def clearances_under_play(
 
     with ThreadPoolExecutor(max_workers=2) as pool:
         return list(pool.map(judge, todo))
+
+
+def work_depth(tool: Body, work: Body, link: Link, theta: np.ndarray, tip, back) -> tuple[float, float, float]:
+    """How far from its ``tip`` a tool (a needle, on ``link``) enters a fixed ``work`` body: the
+    farthest point of the tool inside the work, measured along the tool (``back`` → ``tip``, its
+    frame, mm) from the tip, at ``theta``. Returns (deepest mm, driver angle rad, at most mm — the
+    deepest plus what it can gain between the positions: its points' speed bound times half a step,
+    ``theta`` uniform over a turn)."""
+    tip, back = np.asarray(tip, dtype=float), np.asarray(back, dtype=float)
+    u = (tip - back) / np.linalg.norm(tip - back)
+    x, y, a = (np.broadcast_to(v, theta.shape) for v in link.pose(theta))
+    c, s = np.cos(a), np.sin(a)
+    ring = np.asarray(work.section.exterior.coords)
+    # the work in the tool's frame at each position (it is fixed in the machine)
+    dx, dy = ring[None, :, 0] - x[:, None], ring[None, :, 1] - y[:, None]
+    local = shapely.polygons(np.stack([c[:, None] * dx + s[:, None] * dy, -s[:, None] * dx + c[:, None] * dy], -1))
+    depth = np.zeros(len(theta))
+    for k, g in enumerate(shapely.intersection(tool.section, local)):
+        pts = shapely.get_coordinates(g)
+        if len(pts):
+            depth[k] = float(np.max((tip - pts) @ u))
+    k = int(np.argmax(depth))
+    speed = link.speed + link.turn_rate * float(np.linalg.norm(tip))
+    return float(depth[k]), float(theta[k]), float(depth[k]) + speed * math.pi / len(theta)
+
+
+def tool_phases(tip: np.ndarray, pick, plant, names: tuple[str, str, str, str]) -> list[str]:
+    """A tool's phase at each position of its ``tip`` path (n, 2): inside ``pick`` (the seedling
+    box: ``names[0]``), inside ``plant`` (the soil: ``names[2]``), and between them ``names[1]``
+    (from pick to plant) or ``names[3]`` (back from plant to pick)."""
+    inside = shapely.contains_xy(pick, tip[:, 0], tip[:, 1])
+    below = shapely.contains_xy(plant, tip[:, 0], tip[:, 1])
+    event = np.where(inside, 1, np.where(below, 2, 0))
+    if not event.any():
+        return [names[1]] * len(tip)
+    last = int(event[np.flatnonzero(event)[-1]])  # the event before the first position
+    out = []
+    for e in event:
+        last = int(e) or last
+        out.append(names[0] if e == 1 else names[2] if e == 2 else names[1] if last == 1 else names[3])
+    return out
 
 
 def motion_rows(bodies: list[Body], links: dict[str, Link], theta: np.ndarray) -> tuple[list[str], list[list[str]]]:

@@ -58,6 +58,8 @@ from transplanter.machine import (
     clearances_under_play,
     motion_rows,
     pairs_to_judge,
+    tool_phases,
+    work_depth,
 )
 from transplanter.objectives import BOX_CLEARANCE_MM, Site, gearbox_radius, seed004_objectives
 from transplanter.planetary import DifferentialTrain
@@ -448,38 +450,17 @@ class PlanetaryMachineStudy(StudyDefaults):
         }
 
     def _work_depths(self, bodies: list[Body], links, theta: np.ndarray, pairs: list[Pair]) -> dict:
-        """How far from its tip a needle enters its work (box or soil) over the cycle: the farthest
-        point of the needle inside the obstacle, measured along the needle from the tip, at the
-        motion's positions; ``at_most_mm`` adds what it can gain between them (its points' speed
-        bound times half a step)."""
+        """How far from its tip each needle enters its work (box or soil): :func:`machine.work_depth`."""
         by_name = {b.name: b for b in bodies}
         arm = arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
-        tip, knee = np.asarray(arm.tip), np.asarray(arm.knee)
-        u = (tip - knee) / np.linalg.norm(tip - knee)
         out = {}
         for p in pairs:
             needle, work = (by_name[p.a], by_name[p.b]) if p.a.startswith("needle") else (by_name[p.b], by_name[p.a])
-            link = links[needle.link]
-            x, y, a = (np.broadcast_to(v, theta.shape) for v in link.pose(theta))
-            c, s = np.cos(a), np.sin(a)
-            ring = np.asarray(work.section.exterior.coords)
-            # the work in the needle's frame at each position (it is fixed in the machine)
-            dx, dy = ring[None, :, 0] - x[:, None], ring[None, :, 1] - y[:, None]
-            local = shapely.polygons(
-                np.stack([c[:, None] * dx + s[:, None] * dy, -s[:, None] * dx + c[:, None] * dy], -1)
-            )
-            inside = shapely.intersection(needle.section, local)
-            depth = np.zeros(len(theta))
-            for k, g in enumerate(inside):
-                pts = shapely.get_coordinates(g)
-                if len(pts):
-                    depth[k] = float(np.max((tip - pts) @ u))
-            k = int(np.argmax(depth))
-            speed = link.speed + link.turn_rate * float(np.linalg.norm(tip))
+            deepest, at, most = work_depth(needle, work, links[needle.link], theta, arm.tip, arm.knee)
             out[p] = {
-                "deepest_from_tip_mm": rounded(float(depth[k]), 6),
-                "at_driver_deg": round(math.degrees(theta[k]), 4),
-                "at_most_mm": rounded(float(depth[k]) + speed * math.pi / len(theta), 6),
+                "deepest_from_tip_mm": rounded(deepest, 6),
+                "at_driver_deg": round(math.degrees(at), 4),
+                "at_most_mm": rounded(most, 6),
             }
         return out
 
@@ -560,23 +541,12 @@ class PlanetaryMachineStudy(StudyDefaults):
         return {key: rounded(worst.distance, 6), "under_play_bodies": [worst.pair.a, worst.pair.b]}
 
     def _phases(self, tip: np.ndarray, files: dict[str, bytes]) -> list[str]:
-        """The arm's phase at each position: in the box (picking), below the soil (planting), and
-        between them conveying (box → soil) or returning (soil → box)."""
+        """The arm's phase at each position (:func:`machine.tool_phases` with the box and the soil)."""
         box, soil = (
             formats.section_of(f"{self.name}.{w}{OBSTACLE}", files[f"{self.name}.{w}{OBSTACLE}"])
             for w in ("box", "soil")
         )
-        inside = shapely.contains_xy(box, tip[:, 0], tip[:, 1])
-        below = shapely.contains_xy(soil, tip[:, 0], tip[:, 1])
-        event = np.where(inside, 1, np.where(below, 2, 0))
-        if not event.any():
-            return ["conveying"] * len(tip)
-        last = int(event[np.flatnonzero(event)[-1]])  # the event before the first position
-        out = []
-        for e in event:
-            last = int(e) or last
-            out.append(PHASES[0] if e == 1 else PHASES[2] if e == 2 else PHASES[1] if last == 1 else PHASES[3])
-        return out
+        return tool_phases(tip, box, soil, PHASES)
 
     def _pictures(self, bodies, links, machine, judged, phases) -> dict[str, bytes]:
         def poses(theta):
