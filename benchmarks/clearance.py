@@ -27,7 +27,7 @@ ROOT = Path(__file__).resolve().parents[1]
 def main() -> None:
     from transplanter import clearance
     from transplanter.families import build_family, load_family
-    from transplanter.machine import _posed
+    from transplanter.machine import posed
 
     fam = load_family(ROOT / "parts" / "planetary_seed004.py")
     machine = next(p for p in fam.parts if p.name == "machine")
@@ -43,13 +43,12 @@ def main() -> None:
     files = {}
     for name in (*machine.uses, machine.name):
         files.update({f: (root / f).read_bytes() for f in manifest["parts"][name]["files"]})
-    record, names = machine._inputs(files)
+    record, names, _ = machine._inputs(files)
     posed_machine, _ = machine._posed(files, record, names)
-    bodies = {b.name: b for b in machine._bodies(files, names)}
-    links = posed_machine.links()
+    ready = posed(machine._bodies(files, names), posed_machine.links)
     grid = 2 * math.pi * np.arange(360) / 360
     for a_name, b_name in (("needle_1", "needle_2"), ("planet_1", "planet_2")):
-        a, b = _posed(bodies[a_name], links), _posed(bodies[b_name], links)
+        a, b = ready[a_name], ready[b_name]
         t0 = time.perf_counter()
         found = clearance.closest_approach(a, b, grid)
         ours = time.perf_counter() - t0

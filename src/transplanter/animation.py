@@ -17,6 +17,7 @@ import math
 import numpy as np
 import shapely
 
+from transplanter.clearance import reach
 from transplanter.errors import ExportError
 
 __all__ = ["GIF_FRAMES", "GIF_LIMIT_BYTES", "OUTLINE_MM", "SLIDER_POSITIONS", "gif_bytes", "slider_script"]
@@ -59,7 +60,7 @@ def _view(bodies, poses) -> tuple[float, float, float]:
     boxes = []
     for b in bodies:
         x, y, _ = poses[b.name]
-        r = float(np.hypot(*np.asarray(b.section.exterior.coords).T).max())
+        r = reach(b.section)
         if b.link != "fixed":
             boxes.append((float(np.min(x)) - r, float(np.min(y)) - r, float(np.max(x)) + r, float(np.max(y)) + r))
     lo = np.min([bx[:2] for bx in boxes], axis=0)

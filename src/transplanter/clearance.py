@@ -40,7 +40,7 @@ import shapely
 from transplanter.errors import GeometryError
 from transplanter.tolerances import WIRE_EDM_TOLERANCE
 
-__all__ = ["CLEARANCE_TOL_MM", "Approach", "Posed", "closest_approach", "posed_sections", "reach"]
+__all__ = ["CLEARANCE_TOL_MM", "Approach", "Posed", "closest_approach", "posed_sections", "reach", "relative"]
 
 #: how close to the true minimum over the cycle a stated clearance is, mm: the wire-EDM
 #: tolerance the parts are cut to (a finer figure would be noise; a judge re-poses to 0.05 mm)
@@ -119,21 +119,27 @@ class Approach:
 CHUNK = 256
 
 
+def relative(pose_a, pose_b) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The pose ``(x, y, angle)`` of a frame posed at ``pose_a`` seen from one posed at ``pose_b``
+    (both in the machine frame, arrays of one shape)."""
+    (xa, ya, aa), (xb, yb, ab) = pose_a, pose_b
+    c, s = np.cos(ab), np.sin(ab)
+    dx, dy = xa - xb, ya - yb
+    return c * dx + s * dy, -s * dx + c * dy, aa - ab
+
+
 def _distances(a: Posed, b: Posed, theta: np.ndarray) -> np.ndarray:
     """``d(theta)``: the body with fewer vertices posed in the other's frame (its copies are what
     is built per pose), measured against the other prepared once (GEOS's indexed distance)."""
-    if len(shapely.get_coordinates(a.section)) > len(shapely.get_coordinates(b.section)):
+    if shapely.get_num_coordinates(a.section) > shapely.get_num_coordinates(b.section):
         a, b = b, a
     shapely.prepare(b.section)
     out = np.empty(len(theta))
     for start in range(0, len(theta), CHUNK):
         t = theta[start : start + CHUNK]
-        xa, ya, aa = (np.broadcast_to(v, t.shape) for v in a.pose(t))
-        xb, yb, ab = (np.broadcast_to(v, t.shape) for v in b.pose(t))
-        c, s = np.cos(ab), np.sin(ab)
-        dx, dy = xa - xb, ya - yb
-        moved = posed_sections(a.section, c * dx + s * dy, -s * dx + c * dy, aa - ab)
-        out[start : start + CHUNK] = shapely.distance(b.section, moved)
+        pose_a = tuple(np.broadcast_to(v, t.shape) for v in a.pose(t))
+        pose_b = tuple(np.broadcast_to(v, t.shape) for v in b.pose(t))
+        out[start : start + CHUNK] = shapely.distance(b.section, posed_sections(a.section, *relative(pose_a, pose_b)))
     return out
 
 

@@ -17,14 +17,16 @@ the planets turn as their re-read DXFs let them, not as the design curves say.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 import shapely
 
-from transplanter.clearance import CLEARANCE_TOL_MM, Posed, closest_approach, reach
+from transplanter.clearance import CLEARANCE_TOL_MM, Posed, closest_approach, posed_sections, reach, relative
 from transplanter.errors import SpecError
 from transplanter.planetary import DifferentialTrain
 
@@ -35,6 +37,7 @@ __all__ = [
     "Judged",
     "PlanetaryMachine",
     "pairs_to_judge",
+    "posed",
     "clearances",
     "clearances_under_play",
     "turned",
@@ -61,7 +64,7 @@ class Link:
 
     @staticmethod
     def fixed(name: str = "fixed") -> Link:
-        return Link(name, lambda t: tuple(np.zeros_like(np.asarray(t, dtype=float)) for _ in range(3)))
+        return Link(name, Posed.fixed)
 
 
 @dataclass(frozen=True)
@@ -123,28 +126,32 @@ def pairs_to_judge(bodies: list[Body], joined: set[frozenset], working: dict[fro
 LEVELS_MM = (0.05, 0.005)
 
 
-def _posed(body: Body, links: dict[str, Link]) -> Posed:
-    link = links[body.link]
-    # Douglas-Peucker keeps vertices of the outline: each simpler one is within its tolerance
-    # of the section both ways
-    levels = tuple((body.section.simplify(tol), tol) for tol in LEVELS_MM)
-    radii = None
-    if link.speed == 0.0:  # fixed, or turning about the origin: its points' radii do not change
-        radii = (float(shapely.distance(shapely.Point(0.0, 0.0), body.section)), reach(body.section))
-    return Posed(body.section, link.pose, link.speed + link.turn_rate * reach(body.section), levels, radii)
+def posed(bodies: list[Body], links: dict[str, Link]) -> dict[str, Posed]:
+    """Each body on its link, ready to be judged: its speed bound, its simpler outlines
+    (Douglas-Peucker keeps vertices of the outline, so each is within its tolerance of the section
+    both ways) and, for a body fixed or turning about the origin, the radii its points keep."""
+    out = {}
+    for body in bodies:
+        link = links[body.link]
+        levels = tuple((body.section.simplify(tol), tol) for tol in LEVELS_MM)
+        radii = None
+        if link.speed == 0.0:
+            radii = (float(shapely.distance(shapely.Point(0.0, 0.0), body.section)), reach(body.section))
+        speed = link.speed + link.turn_rate * reach(body.section)
+        out[body.name] = Posed(body.section, link.pose, speed, levels, radii)
+    return out
 
 
 def clearances(
-    bodies: list[Body], links: dict[str, Link], pairs: list[Pair], theta: np.ndarray, tol: float = CLEARANCE_TOL_MM
+    bodies: dict[str, Posed], pairs: list[Pair], theta: np.ndarray, tol: float = CLEARANCE_TOL_MM
 ) -> list[Judged]:
     """Each pair's closest approach over the cycle sampled by ``theta`` (rad; refined between
-    the samples under the speed bounds, :func:`clearance.closest_approach`)."""
+    the samples under the speed bounds, :func:`clearance.closest_approach`); ``bodies`` as
+    :func:`posed` gives them."""
     from concurrent.futures import ThreadPoolExecutor
 
-    posed = {b.name: _posed(b, links) for b in bodies}
-
     def judge(p: Pair) -> Judged:
-        found = closest_approach(posed[p.a], posed[p.b], theta, tol)
+        found = closest_approach(bodies[p.a], bodies[p.b], theta, tol)
         return Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
 
     # two at a time: GEOS and numpy release the GIL for most of a pair's measuring
@@ -165,6 +172,7 @@ def turned(link: Link, turn: float) -> Link:
 
 def clearances_under_play(
     bodies: list[Body],
+    ready: dict[str, Posed],
     links: dict[str, Link],
     pairs: list[Pair],
     theta: np.ndarray,
@@ -176,7 +184,8 @@ def clearances_under_play(
 ) -> list[Judged]:
     """Each pair's closest approach with every link in ``playing`` (the planets) at either end of
     its play, ± ``turn`` rad, independently: the smallest over those poses, for the pairs that
-    have a playing link (the others are not returned).
+    have a playing link (the others are not returned); ``ready`` the bodies as :func:`posed`
+    gives them on ``links``.
 
     A turn of ``turn`` moves no point of a body further than ``turn`` times its reach, so a pair
     whose ``nominal`` closest approach less those moves stays at or above ``settle`` (the
@@ -205,11 +214,10 @@ def clearances_under_play(
         worst = None
         for sa in signs_a:
             for sb in signs_b:
-                moved = dict(links)
-                moved[la] = turned(links[la], sa * turn)
-                if lb != la:
-                    moved[lb] = turned(links[lb], sb * turn)
-                found = closest_approach(_posed(by_name[p.a], moved), _posed(by_name[p.b], moved), theta, tol)
+                # (a turn about the link's origin leaves its speed bound and outlines as they were)
+                a = dataclasses.replace(ready[p.a], pose=turned(links[la], sa * turn).pose)
+                b = dataclasses.replace(ready[p.b], pose=turned(links[lb], (sa if lb == la else sb) * turn).pose)
+                found = closest_approach(a, b, theta, tol)
                 if worst is None or found.distance < worst.distance:
                     worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
         assert worst is not None
@@ -227,12 +235,9 @@ def work_depth(tool: Body, work: Body, link: Link, theta: np.ndarray, tip, back)
     ``theta`` uniform over a turn)."""
     tip, back = np.asarray(tip, dtype=float), np.asarray(back, dtype=float)
     u = (tip - back) / np.linalg.norm(tip - back)
-    x, y, a = (np.broadcast_to(v, theta.shape) for v in link.pose(theta))
-    c, s = np.cos(a), np.sin(a)
-    ring = np.asarray(work.section.exterior.coords)
+    pose = tuple(np.broadcast_to(v, theta.shape) for v in link.pose(theta))
     # the work in the tool's frame at each position (it is fixed in the machine)
-    dx, dy = ring[None, :, 0] - x[:, None], ring[None, :, 1] - y[:, None]
-    local = shapely.polygons(np.stack([c[:, None] * dx + s[:, None] * dy, -s[:, None] * dx + c[:, None] * dy], -1))
+    local = posed_sections(work.section, *relative(Posed.fixed(theta), pose))
     depth = np.zeros(len(theta))
     for k, g in enumerate(shapely.intersection(tool.section, local)):
         pts = shapely.get_coordinates(g)
@@ -288,7 +293,10 @@ class PlanetaryMachine:
     made: DifferentialTrain
     error_slope: float = 0.0
 
+    @cached_property
     def links(self) -> dict[str, Link]:
+        """The ring, the carrier, each planet (``planet.k``, carrying what is fixed to it) and
+        ``fixed``, with their speed bounds."""
         tr = self.made
         w, start, a = tr.omega_ratio, tr.carrier_start, tr.pair.centre_distance
         phi = np.linspace(0.0, 2 * math.pi, 20_000, endpoint=False)
@@ -317,5 +325,5 @@ class PlanetaryMachine:
 
 
 def _turning(theta, angle):
-    z = np.zeros_like(np.asarray(theta, dtype=float))
-    return z, z, np.asarray(angle, dtype=float) + z
+    x, y, z = Posed.fixed(theta)
+    return x, y, np.asarray(angle, dtype=float) + z

@@ -49,6 +49,7 @@ __all__ = [
     "gearbox_radius",
     "seed004_objectives",
     "back_over_plant",
+    "box_depth",
     "ARM_CLEARANCE_MM",
     "ANGLE_DIFFERENCE_DEG",
     "HOLE_WIDTH_MAX_MM",
@@ -155,6 +156,13 @@ def back_over_plant(tip: np.ndarray, soil_level: float, velocity: float, period:
     return float(np.max(np.maximum(0.0, -exit_side * (ground_x[rising] - ground_x[0])), initial=0.0))
 
 
+def box_depth(points: np.ndarray, site: Site) -> np.ndarray:
+    """How far ``points`` (n, 2) mm lie beyond the seedling box's end face, up its slope, mm
+    (negative: outside); the picking point is the tip's deepest."""
+    up = np.array([math.cos(site.box_slope), math.sin(site.box_slope)])
+    return (np.asarray(points, dtype=float) - np.asarray(site.seedling_box, dtype=float)) @ up
+
+
 def seed004_objectives(
     train, site: Site, module: float, metrics: TransplantingMetrics | None = None, n: int = 1440
 ) -> tuple[Objective, ...]:
@@ -162,9 +170,8 @@ def seed004_objectives(
     gb = gearbox_radius(train.pair.driver.max_radius().value, module)
     m = metrics or transplanting_metrics(train, site.seedling_box, site.plant_spacing, site.planting_depth, gb, n=n)
     s = train.cycle(n)
-    box = np.asarray(site.seedling_box, dtype=float)
     up = np.array([math.cos(site.box_slope), math.sin(site.box_slope)])  # into the box
-    depth = (s.tip - box) @ up
+    depth = box_depth(s.tip, site)
     k = int(np.argmax(depth))
     inside = depth > 0
     entry = int(np.flatnonzero(inside & ~np.roll(inside, 1))[0]) if inside.any() and not inside.all() else k
@@ -180,7 +187,7 @@ def seed004_objectives(
     return (
         Objective("i", "needle-needle clearance", m.needle_clearance, ARM_CLEARANCE_MM, inf, "mm"),
         Objective(
-            "ii", "knee outside the seedling box", float(-np.max((s.knee - box) @ up)), BOX_CLEARANCE_MM, inf, "mm"
+            "ii", "knee outside the seedling box", float(-np.max(box_depth(s.knee, site))), BOX_CLEARANCE_MM, inf, "mm"
         ),
         Objective("iii", "picking angle", m.picking_angle, 320.0, 350.0, "deg"),
         Objective("iv", "pushing angle", m.pushing_angle, 270.0, 310.0, "deg"),

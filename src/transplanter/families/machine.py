@@ -34,6 +34,7 @@ import dataclasses
 import json
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -41,7 +42,7 @@ import shapely
 
 from transplanter import animation, formats, solids
 from transplanter.agronomy import transplanting_metrics
-from transplanter.arm_parts import arm_parts
+from transplanter.arm_parts import ArmParts, arm_parts
 from transplanter.errors import GeometryError, SpecError, check_number
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.gears import ToothedPairStudy
@@ -58,6 +59,7 @@ from transplanter.machine import (
     clearances_under_play,
     motion_rows,
     pairs_to_judge,
+    posed,
     tool_phases,
     work_depth,
 )
@@ -152,7 +154,15 @@ class PlanetaryMachineStudy(StudyDefaults):
 
     # -- the files it is posed from -------------------------------------------------------
 
-    def _inputs(self, files: dict[str, bytes]) -> tuple[dict, dict[str, str]]:
+    @cached_property
+    def arm(self) -> ArmParts:
+        """The arm plate and the needle in the planet's frame (:func:`arm_parts.arm_parts`)."""
+        return arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
+
+    def _inputs(self, files: dict[str, bytes]) -> tuple[dict, dict[str, str], float | None]:
+        """The pair's assembly record, the names of the files the machine is posed from, and how
+        far each planet may turn off its driving-flank pose, rad: the bound the pair's proof states
+        over its play (``meshing.dxf.train.objectives_under_play.turn_deg``; None without)."""
         p = self.pair.name
         names = {
             "ring": f"{p}.driver.dxf",
@@ -164,10 +174,12 @@ class PlanetaryMachineStudy(StudyDefaults):
         missing = [n for n in names.values() if n not in files]
         if missing:
             raise GeometryError(f"{self.name}: the machine is posed from {missing}, which are not there")
-        record = json.loads(files[names["record"]])["results"].get("assembly")
+        results = json.loads(files[names["record"]])["results"]
+        record = results.get("assembly")
         if not record:
             raise GeometryError(f"{self.name}: {names['record']} has no assembly record")
-        return record, names
+        play = results.get("meshing", {}).get("dxf", {}).get("train", {}).get("objectives_under_play", {})
+        return record, names, (math.radians(play["turn_deg"]) if "turn_deg" in play else None)
 
     def _posed(self, files: dict[str, bytes], record: dict, names: dict[str, str]) -> tuple[PlanetaryMachine, dict]:
         """The machine's links from the pair's meshing on its re-read DXFs; their start against
@@ -177,7 +189,7 @@ class PlanetaryMachineStudy(StudyDefaults):
         step = np.diff(np.append(ang, ang[0] + 2 * math.pi))
         slope = float(np.max(np.abs(np.diff(np.append(err, err[0])) / np.maximum(step, 1e-12))))
         machine = PlanetaryMachine(made, slope)
-        links = machine.links()
+        links = machine.links
         start = self.train.carrier_start
         worst = 0.0
         for k, (c, b) in enumerate(
@@ -192,13 +204,6 @@ class PlanetaryMachineStudy(StudyDefaults):
                 f"(limit {START_POSE_DEG:g} deg)"
             )
         return machine, {"start_vs_assembly_record_deg": rounded(worst, 6), "error_slope": rounded(slope, 6)}
-
-    def _play(self, files: dict[str, bytes], names: dict[str, str]) -> float | None:
-        """How far each planet may turn off the driving-flank pose, rad: the bound the pair's proof
-        states over its play (``meshing.dxf.train.objectives_under_play.turn_deg``); None without."""
-        results = json.loads(files[names["record"]])["results"]
-        turn = results.get("meshing", {}).get("dxf", {}).get("train", {}).get("objectives_under_play", {})
-        return math.radians(turn["turn_deg"]) if "turn_deg" in turn else None
 
     def _obstacles(self, module: float) -> dict[str, shapely.Polygon]:
         """The seedling box and the soil as sections in the machine frame."""
@@ -227,12 +232,12 @@ class PlanetaryMachineStudy(StudyDefaults):
         raise GeometryError(f"{self.name} is built from the files of {list(self.uses)} (the builder gives them)")
 
     def build_using(self, out: Path, used: dict[str, bytes]) -> Built:
-        record, names = self._inputs(used)
+        record, names, turn = self._inputs(used)
         module = float(record["module_mm"])
         n = self.train.planets
         files: dict[str, bytes] = {}
         results: dict = {}
-        arm = arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
+        arm = self.arm
         bore = self.pair.making[1].features.bore
         for role, section, holes, making, z in (
             ("arm_plate", arm.plate, arm.plate_holes, self.plate, self.layers.plates),
@@ -262,7 +267,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             )
             files[f"{self.name}.{what}{OBSTACLE}"] = formats.DXF.write(part)
         machine, start = self._posed(used, record, names)
-        judged = self._judge({**used, **files}, names, machine, module, self._play(used, names))
+        judged = self._judge({**used, **files}, names, machine, module, turn)
         results["machine"] = judged["record"]
         results["machine"]["posed_from"] = {
             "meshing": f"{names['meshing']} ({names['ring']} and {names['planet']} meshed by the pair's proof)",
@@ -272,7 +277,7 @@ class PlanetaryMachineStudy(StudyDefaults):
         results["objectives_on_bodies"] = judged["objectives"]
         results["one_plane"] = judged["one_plane"]
         files.update(judged["files"])
-        results["assembly"], more = self._assembly(judged["bodies"], machine, used)
+        results["assembly"], more = self._assembly(judged["bodies"], machine, record)
         files.update(more)
         files[f"{self.name}.machine.json"] = json_bytes(results["machine"])
         if judged["problems"]:
@@ -344,7 +349,8 @@ class PlanetaryMachineStudy(StudyDefaults):
         animation and the slider too."""
         n = self.train.planets
         bodies = self._bodies(files, names)
-        links = machine.links()
+        links = machine.links
+        ready = posed(bodies, links)
         theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
         # the clearances start from a coarser grid (the bound refines between its samples): the
         # slider's positions, so each position's smallest clearance is one of its samples
@@ -361,7 +367,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             working[frozenset((f"needle_{k}", "box"))] = "the needle takes seedlings from the box"
             working[frozenset((f"needle_{k}", "soil"))] = "the needle plants in the soil"
         pairs = pairs_to_judge(bodies, joined, working)
-        judged = clearances(bodies, links, pairs, grid)
+        judged = clearances(ready, pairs, grid)
         played = {}
         if turn is not None:  # the planets anywhere in their play, each independently
             planets = {f"planet.{k}" for k in range(1, n + 1)}
@@ -370,10 +376,10 @@ class PlanetaryMachineStudy(StudyDefaults):
             settle = max(self.clearance, BOX_CLEARANCE_MM)  # what the pairs are judged against
             played = {
                 frozenset((j.pair.a, j.pair.b)): j
-                for j in clearances_under_play(bodies, links, checked, grid, turn, planets, nominal, settle)
+                for j in clearances_under_play(bodies, ready, links, checked, grid, turn, planets, nominal, settle)
             }
         depths = self._work_depths(bodies, links, theta, [j.pair for j in judged if j.pair.working])
-        arm = arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
+        arm = self.arm
         problems = [
             f"{p.a} enters {p.b} {d['at_most_mm']:.4g} mm from its tip, beyond its {arm.bar:.4g} mm bar "
             f"(at driver {d['at_driver_deg']:.1f} deg): more than the needle meets its work"
@@ -388,7 +394,7 @@ class PlanetaryMachineStudy(StudyDefaults):
         ]
         # what one plane for all arm bodies would do: each arm plate against the other arms' needles
         cross = [Pair(f"arm_{k}", f"needle_{j}") for k in range(1, n + 1) for j in range(1, n + 1) if j != k]
-        single = clearances(bodies, links, cross, grid)
+        single = clearances(ready, cross, grid)
         worst_single = min(single, key=lambda j: j.distance)
         one_plane = {
             "min_mm": rounded(worst_single.distance, 6),
@@ -436,7 +442,8 @@ class PlanetaryMachineStudy(StudyDefaults):
             record["under_play"] = record_play
         files_out = {}
         if shown:
-            phases = [self._phases(t, files) for t in machine.tips(theta)]
+            box, soil = (next(b.section for b in bodies if b.name == w) for w in ("box", "soil"))
+            phases = [tool_phases(t, box, soil, PHASES) for t in machine.tips(theta)]
             header, rows = motion_rows(bodies, links, theta)
             files_out[f"{self.name}.motion.csv"] = csv_bytes(header, rows)
             files_out.update(self._pictures(bodies, links, machine, judged, phases))
@@ -452,7 +459,7 @@ class PlanetaryMachineStudy(StudyDefaults):
     def _work_depths(self, bodies: list[Body], links, theta: np.ndarray, pairs: list[Pair]) -> dict:
         """How far from its tip each needle enters its work (box or soil): :func:`machine.work_depth`."""
         by_name = {b.name: b for b in bodies}
-        arm = arm_parts(self.train.arm, self.hub, self.boss, self.tab, self.needle_width, self.point)
+        arm = self.arm
         out = {}
         for p in pairs:
             needle, work = (by_name[p.a], by_name[p.b]) if p.a.startswith("needle") else (by_name[p.b], by_name[p.a])
@@ -540,14 +547,6 @@ class PlanetaryMachineStudy(StudyDefaults):
         key = "under_play_mm" if worst.exact else "under_play_at_least_mm"
         return {key: rounded(worst.distance, 6), "under_play_bodies": [worst.pair.a, worst.pair.b]}
 
-    def _phases(self, tip: np.ndarray, files: dict[str, bytes]) -> list[str]:
-        """The arm's phase at each position (:func:`machine.tool_phases` with the box and the soil)."""
-        box, soil = (
-            formats.section_of(f"{self.name}.{w}{OBSTACLE}", files[f"{self.name}.{w}{OBSTACLE}"])
-            for w in ("box", "soil")
-        )
-        return tool_phases(tip, box, soil, PHASES)
-
     def _pictures(self, bodies, links, machine, judged, phases) -> dict[str, bytes]:
         def poses(theta):
             return {
@@ -573,14 +572,13 @@ class PlanetaryMachineStudy(StudyDefaults):
         )
         return {f"{self.name}.animation.gif": gif, f"{self.name}.slider.js": script}
 
-    def _assembly(self, bodies, machine, used) -> tuple[dict, dict[str, bytes]]:
+    def _assembly(self, bodies, machine, record: dict) -> tuple[dict, dict[str, bytes]]:
         """A 3MF of the made parts where they sit at the start (each body from its re-read section,
-        on its layer)."""
-        links = machine.links()
+        on its layer; the planets where the assembly ``record`` puts them)."""
+        links = machine.links
         placed, volumes = [], {}
         start = self.train.carrier_start
         r = self.train.pair.centre_distance
-        record, _ = self._inputs(used)
         at = {}  # each planet where the assembly record puts it (the middle of its play)
         for k, (c, body) in enumerate(
             zip(record["planet_carrier_angles_deg"], record["planet_body_angle_to_carrier_line_deg"], strict=True)
@@ -603,9 +601,9 @@ class PlanetaryMachineStudy(StudyDefaults):
         """The machine posed again from the files as found (the bodies re-read, the planets turned
         by the meshing table — which the pair's own check holds to its DXFs) and every clearance
         judged again; each must be the recorded one."""
-        record, names = self._inputs(files)
+        record, names, turn = self._inputs(files)
         machine, _ = self._posed(files, record, names)
-        judged = self._judge(files, names, machine, float(record["module_mm"]), self._play(files, names), shown=False)
+        judged = self._judge(files, names, machine, float(record["module_mm"]), turn, shown=False)
         stated = json.loads(files[f"{self.name}.machine.json"])
         problems = list(judged["problems"])
         was = {tuple(r["bodies"]): r["min_mm"] for r in stated["clearances"]}

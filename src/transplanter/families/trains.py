@@ -20,7 +20,7 @@ from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.making import Making, manufacture
 from transplanter.families.study import Built, StudyDefaults, Table
 from transplanter.interference import SCREEN_CUTTERS, fouling_screen
-from transplanter.objectives import Objective, Site, gearbox_radius, seed004_objectives
+from transplanter.objectives import Objective, Site, box_depth, gearbox_radius, seed004_objectives
 from transplanter.pair_gate import generate_pair
 from transplanter.planetary import DifferentialTrain
 from transplanter.precision import rounded, significant
@@ -71,8 +71,7 @@ class TrainProof:
                     worst[key] = (o.value, o.margin, o.unit)
         at = int(np.argmax(envelope))
         # where it matters: at the picking point (deepest into the box) and the push (lowest)
-        box, slope = np.asarray(self.site.seedling_box, dtype=float), self.site.box_slope
-        pick = int(np.argmax((design - box) @ np.array([math.cos(slope), math.sin(slope)])))
+        pick = int(np.argmax(box_depth(design, self.site)))
         push = int(np.argmin(design[:, 1]))
         return {
             "turn_deg": rounded(math.degrees(turn), 6),
