@@ -46,7 +46,7 @@ from transplanter.arm_parts import ArmParts, arm_parts
 from transplanter.errors import GeometryError, SpecError, check_number
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.gears import ToothedPairStudy
-from transplanter.families.making import Making, manufacture
+from transplanter.families.making import Making, check_shop_files, manufacture
 from transplanter.families.pair_assembly import read_meshing_csv
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.machine import (
@@ -611,6 +611,13 @@ class PlanetaryMachineStudy(StudyDefaults):
             before = was.get(tuple(row["bodies"]))
             if before is None or abs(before - row["min_mm"]) > 1e-6:
                 problems.append(f"{' and '.join(row['bodies'])}: {row['min_mm']} mm now, {before} mm recorded")
+        # the arm parts' STEP against their DXF and the machine's 3MF, re-read as the other parts' are
+        made, more = check_shop_files(
+            files,
+            {f"{self.name}.arm_plate": self.plate.width, f"{self.name}.needle": self.needle.width},
+            (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if b.link != "fixed"]),
+        )
+        problems += more
         rows = [r for r in judged["record"]["clearances"] if "working" not in r]
         near = min(rows, key=lambda r: r["min_mm"])
         summary = {
@@ -620,4 +627,4 @@ class PlanetaryMachineStudy(StudyDefaults):
             "at_driver_deg": near["at_driver_deg"],
             "required_mm": self.clearance,
         }
-        return Checked({"clearances": summary}, problems)
+        return Checked({"clearances": summary, "made": made}, problems)
