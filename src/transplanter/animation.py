@@ -30,8 +30,9 @@ SLIDER_POSITIONS = 360
 #: outlines are simplified to this for the screen, mm (the shop files keep their precision)
 OUTLINE_MM = 0.05
 _SIZE = 560  # px
-#: bodies drawn as outlines only (the carrier plate would hide the planets behind it)
-OUTLINED = ("carrier",)
+#: bodies drawn as outlines only (a carrier plate or a cam would hide what turns in front of it):
+#: names starting with these
+OUTLINED = ("carrier", "cam")
 _PALETTE = {
     "fixed": (150, 110, 60),
     "ring": (70, 110, 180),
@@ -41,12 +42,22 @@ _PALETTE = {
     "needle": (180, 40, 40),
     "trace": (40, 40, 40),
 }
+#: what else a name may say it is, drawn in that kind's colour
+_KIND = {
+    "claw": "needle",
+    "gear": "planet",
+    "sun": "planet",
+    "sector": "planet",
+    "cam": "ring",
+    "lever": "ring",
+    "roller": "ring",
+}
 
 
 def _colour(name: str, link: str) -> tuple[int, int, int]:
-    for key in ("needle", "arm", "planet", "ring", "carrier"):
+    for key in ("needle", "arm", "planet", "ring", "carrier", *_KIND):
         if key in name:
-            return _PALETTE[key]
+            return _PALETTE[_KIND.get(key, key)]
     return _PALETTE["fixed"] if link == "fixed" else _PALETTE["carrier"]
 
 
@@ -105,7 +116,7 @@ def gif_bytes(bodies, poses: dict, tips: list[np.ndarray], frames: int = GIF_FRA
             line, fill = index[rgb], index[tuple(int(v + (255 - v) * 0.65) for v in rgb)]
             for k, ring in enumerate(shapes[b.name]):
                 moved = np.column_stack([c * ring[:, 0] - s * ring[:, 1] + x, s * ring[:, 0] + c * ring[:, 1] + y])
-                inside = None if b.name in OUTLINED else (fill if k == 0 else 0)
+                inside = None if b.name.startswith(OUTLINED) else (fill if k == 0 else 0)
                 draw.polygon(px(moved), fill=inside, outline=line)
         for path in tips:
             draw.line(px(path[: f + 1]), fill=1, width=1)
@@ -175,7 +186,7 @@ def slider_script(bodies, poses: dict, tips: list[np.ndarray], driver_deg, phase
                 "name": b.name,
                 "rings": [np.round(r, 2).ravel().tolist() for r in _rings(b.section.simplify(OUTLINE_MM))],
                 "fill": "none"
-                if b.name in OUTLINED
+                if b.name.startswith(OUTLINED)
                 else _hex(tuple(int(v + (255 - v) * 0.65) for v in _colour(b.name, b.link))),
                 "stroke": _hex(_colour(b.name, b.link)),
             }

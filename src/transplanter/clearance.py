@@ -73,6 +73,9 @@ class Posed:
     #: (least, largest) distance of its points from the machine's origin over the cycle, for a
     #: body fixed or turning about the origin (None: it moves otherwise)
     radii: tuple[float, float] | None = None
+    #: the rigid frames its frame origin is a fixed point of, ``(frame, x, y)`` (mm): two bodies
+    #: whose origins share a frame are never nearer than the origins less both reaches
+    origin_in: tuple[tuple[str, float, float], ...] = ()
 
     @staticmethod
     def fixed(theta):
@@ -155,6 +158,19 @@ def _ladder(a: Posed, b: Posed) -> list[tuple[Posed, Posed, float]]:
     return [*out, (a, b, 0.0)]
 
 
+def _origin_floor(a: Posed, b: Posed) -> float:
+    """A distance the two bodies never come below when their frame origins are fixed points of
+    one rigid frame (``Posed.origin_in``): the origins' distance there less both reaches — two
+    gears on one carrier are never nearer than their centres less their tip radii; else 0."""
+    here = {frame: (x, y) for frame, x, y in b.origin_in}
+    best = 0.0
+    for frame, x, y in a.origin_in:
+        if frame in here:
+            d = math.hypot(x - here[frame][0], y - here[frame][1])
+            best = max(best, d - reach(a.section) - reach(b.section))
+    return best
+
+
 def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -> Approach:
     """The smallest distance between ``a`` and ``b`` over the cycle sampled by ``theta`` (rad,
     increasing, one period of 2π, end point excluded), found by branch and bound under the
@@ -176,6 +192,7 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     floor = 0.0
     if a.radii is not None and b.radii is not None:
         floor = max(0.0, b.radii[0] - a.radii[1], a.radii[0] - b.radii[1])
+    floor = max(floor, _origin_floor(a, b))
     ladder = _ladder(a, b)
     slack = np.array([s for _, _, s in ladder])
 

@@ -237,8 +237,9 @@ def _cmd_check(args: argparse.Namespace) -> int:
                     line = f"follower error max {_fmt_um(r['max_error_mm'])} rms {_fmt_um(r['rms_error_mm'])}"
                 elif "pairs_judged" in r:
                     line = (
-                        f"{r['pairs_judged']} pairs of bodies judged again over the cycle: smallest "
-                        f"{r['smallest_mm']:.4g} mm ({r['between']}, at driver {r['at_driver_deg']:.1f} deg; "
+                        f"{r['pairs_judged']} pairs of bodies judged again over the cycle: nearest its "
+                        f"requirement {r['smallest_mm']:.4g} mm ({r['between']}, "
+                        f"at driver {r['at_driver_deg']:.1f} deg; "
                         f"required {r['required_mm']:g} mm)"
                     )
                 elif "max_deviation_mm" in r:

@@ -61,6 +61,9 @@ class Link:
     pose: Callable
     speed: float = 0.0
     turn_rate: float = 0.0
+    #: the rigid frames its origin is a fixed point of, ``(frame, x, y)`` mm (what
+    #: :class:`~transplanter.clearance.Posed` bounds two bodies' distance by)
+    origin_in: tuple[tuple[str, float, float], ...] = ()
 
     @staticmethod
     def fixed(name: str = "fixed") -> Link:
@@ -77,6 +80,8 @@ class Body:
     z: tuple[float, float]
     link: str
     dxf: str = ""
+    #: mounted face down: ``section`` is its DXF's mirrored about the DXF's x-axis
+    mirrored: bool = False
 
     def __post_init__(self) -> None:
         if not (len(self.z) == 2 and self.z[0] < self.z[1]):
@@ -138,7 +143,7 @@ def posed(bodies: list[Body], links: dict[str, Link]) -> dict[str, Posed]:
         if link.speed == 0.0:
             radii = (float(shapely.distance(shapely.Point(0.0, 0.0), body.section)), reach(body.section))
         speed = link.speed + link.turn_rate * reach(body.section)
-        out[body.name] = Posed(body.section, link.pose, speed, levels, radii)
+        out[body.name] = Posed(body.section, link.pose, speed, levels, radii, link.origin_in)
     return out
 
 

@@ -61,6 +61,10 @@ ROUND_OFF = 1e-6
 _UNIT_TEXT = {"m/s^2": "m/s²", "mm^2": "mm²", "mm^3": "mm³"}
 
 
+#: DXFs beside the parts that no shop cuts: obstacles, bought parts
+_NOT_CUT = (".obstacle.dxf", ".bought.dxf")
+
+
 def _label(key: str) -> tuple[str, str]:
     for suffix, unit in _UNITS:
         if key.endswith(suffix):
@@ -161,7 +165,8 @@ def part_status(rec: dict) -> tuple[str, str]:
     shop = rec.get("results", {}).get("shop_files")
     if isinstance(shop, str) and shop.startswith("withheld"):
         return "withheld", f"withheld as a finding — {shop.removeprefix('withheld: ')}; no shop files were written"
-    made = sorted(f for f in rec.get("files", {}) if f.endswith(_SHOP) and not f.endswith(".obstacle.dxf"))
+    # obstacles and bought parts are drawn for the machine's judge, not cut
+    made = sorted(f for f in rec.get("files", {}) if f.endswith(_SHOP) and not f.endswith(_NOT_CUT))
     if made:
         return "built", f"built — shop files: {', '.join(made)}"
     return "built", "built — analysis only (no shop files for this kind of part)"

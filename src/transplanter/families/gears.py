@@ -110,6 +110,8 @@ class ToothedPairStudy(StudyDefaults):
     #: the module, mm, instead of ``teeth``: the curves are scaled to a whole number of its teeth
     #: (as ``PitchPairStudy`` and ``GearPair.sized`` size a pair)
     module: float | None = None
+    #: more notes for both gears' shop files (e.g. that another part is cut from these teeth)
+    notes: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         if not isinstance(self.pair, GearPair):
@@ -198,7 +200,7 @@ class ToothedPairStudy(StudyDefaults):
         if problems:
             results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
         elif self.making is not None:
-            made = pair_assembly.make(made_pair, self.making, self.train)
+            made = pair_assembly.make(made_pair, self.making, self.train, tuple(self.notes))
             for role, res in made.results.items():
                 results[role]["made"] = res
             files.update(made.files)

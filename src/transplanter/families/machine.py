@@ -40,12 +40,20 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from transplanter import animation, formats, solids
+from transplanter import animation, solids
 from transplanter.agronomy import transplanting_metrics
 from transplanter.arm_parts import ArmParts, arm_parts
 from transplanter.errors import GeometryError, SpecError, check_number
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.gears import ToothedPairStudy
+from transplanter.families.machine_record import (
+    OBSTACLE,
+    clearance_row,
+    obstacle_file,
+    pictures,
+    read_bodies,
+    start_assembly,
+)
 from transplanter.families.making import Making, check_shop_files, manufacture
 from transplanter.families.pair_assembly import read_meshing_csv
 from transplanter.families.study import Built, Checked, StudyDefaults
@@ -75,11 +83,6 @@ PHASES = ("picking", "conveying", "planting", "return")
 #: the start pose of each planet may differ from the assembly record by the measured meshing
 #: error only; more than this is a wrong frame, deg
 START_POSE_DEG = 1.0
-#: the suffix of an obstacle's section (the seedling box, the soil): a DXF that is not a part
-OBSTACLE = ".obstacle.dxf"
-#: the re-read DXF sections are judged simplified to within this, mm (a stated distance is then
-#: within twice this plus ``clearance.CLEARANCE_TOL_MM`` of the files' own)
-OUTLINE_TOL_MM = 1e-3
 
 
 @dataclass(frozen=True)
@@ -257,15 +260,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             files.update(shop)
         obstacles = self._obstacles(module)
         for what, section in obstacles.items():
-            lo, hi = self.layers.span
-            part = formats.MadePart(
-                f"{self.name}.{what}",
-                section,
-                None,
-                hi - lo,
-                (f"{what}: an obstacle in the machine frame (not a part), z {lo:g}..{hi:g} mm",),
-            )
-            files[f"{self.name}.{what}{OBSTACLE}"] = formats.DXF.write(part)
+            files.update(obstacle_file(self.name, what, section, self.layers.span))
         machine, start = self._posed(used, record, names)
         judged = self._judge({**used, **files}, names, machine, module, turn)
         results["machine"] = judged["record"]
@@ -316,30 +311,19 @@ class PlanetaryMachineStudy(StudyDefaults):
     def _bodies(self, files: dict[str, bytes], names: dict[str, str]) -> list[Body]:
         """Every body as re-read from its DXF, in its plane, on its link."""
         L, n = self.layers, self.train.planets
-        read = {}
-        for key, fname in (
-            ("ring", names["ring"]),
-            ("planet", names["planet"]),
-            ("carrier", names["carrier"]),
-            ("arm_plate", f"{self.name}.arm_plate.dxf"),
-            ("needle", f"{self.name}.needle.dxf"),
-            ("box", f"{self.name}.box{OBSTACLE}"),
-            ("soil", f"{self.name}.soil{OBSTACLE}"),
-        ):
-            section = formats.section_of(fname, files[fname]).simplify(OUTLINE_TOL_MM)
-            read[key] = (section, fname)
-        span = L.span
-        bodies = [
-            Body("ring", read["ring"][0], L.gears, "ring", read["ring"][1]),
-            Body("carrier", read["carrier"][0], L.carrier, "carrier", read["carrier"][1]),
+        plate, needle = f"{self.name}.arm_plate.dxf", f"{self.name}.needle.dxf"
+        specs = [
+            ("ring", names["ring"], L.gears, "ring", False),
+            ("carrier", names["carrier"], L.carrier, "carrier", False),
         ]
         for k in range(1, n + 1):
-            bodies.append(Body(f"planet_{k}", read["planet"][0], L.gears, f"planet.{k}", read["planet"][1]))
-            bodies.append(Body(f"arm_{k}", read["arm_plate"][0], L.plates, f"planet.{k}", read["arm_plate"][1]))
-            bodies.append(Body(f"needle_{k}", read["needle"][0], L.needles, f"planet.{k}", read["needle"][1]))
-        bodies.append(Body("box", read["box"][0], span, "fixed", read["box"][1]))
-        bodies.append(Body("soil", read["soil"][0], span, "fixed", read["soil"][1]))
-        return bodies
+            specs += [
+                (f"planet_{k}", names["planet"], L.gears, f"planet.{k}", False),
+                (f"arm_{k}", plate, L.plates, f"planet.{k}", False),
+                (f"needle_{k}", needle, L.needles, f"planet.{k}", False),
+            ]
+        specs += [(w, f"{self.name}.{w}{OBSTACLE}", L.span, "fixed", False) for w in ("box", "soil")]
+        return read_bodies(files, specs)
 
     def _judge(
         self, files, names, machine: PlanetaryMachine, module: float, turn: float | None, shown: bool = True
@@ -432,7 +416,8 @@ class PlanetaryMachineStudy(StudyDefaults):
             "positions": MOTION_POSITIONS,
             "clearance_required_mm": self.clearance,
             "clearances": [
-                self._row(j, played.get(frozenset((j.pair.a, j.pair.b))), depths.get(j.pair)) for j in judged
+                clearance_row(j, self.clearance, played.get(frozenset((j.pair.a, j.pair.b))), depths.get(j.pair))
+                for j in judged
             ],
             "animation": f"{self.name}.animation.gif",
             "slider": f"{self.name}.slider.js",
@@ -446,7 +431,9 @@ class PlanetaryMachineStudy(StudyDefaults):
             phases = [tool_phases(t, box, soil, PHASES) for t in machine.tips(theta)]
             header, rows = motion_rows(bodies, links, theta)
             files_out[f"{self.name}.motion.csv"] = csv_bytes(header, rows)
-            files_out.update(self._pictures(bodies, links, machine, judged, phases))
+            files_out.update(
+                pictures(self.name, bodies, links, machine.tips, judged, phases, [f"arm {k + 1}" for k in range(n)])
+            )
         return {
             "record": record,
             "objectives": objectives,
@@ -470,26 +457,6 @@ class PlanetaryMachineStudy(StudyDefaults):
                 "at_most_mm": rounded(most, 6),
             }
         return out
-
-    def _row(self, j: Judged, played: Judged | None = None, depth: dict | None = None) -> dict:
-        row = {
-            "bodies": [j.pair.a, j.pair.b],
-            "min_mm": rounded(j.distance, 6),
-            "at_driver_deg": round(j.at_deg, 4),
-            "bound_mm": rounded(j.bound, 6),
-        }
-        if j.pair.working:
-            row["working"] = j.pair.working
-            if depth is not None:  # only the needle's bar enters its work
-                row["enters_from_tip_mm"] = depth
-        else:
-            row["pass"] = bool(j.distance >= self.clearance)
-        if played is not None and played.exact:
-            row["under_play_mm"] = rounded(played.distance, 6)
-            row["under_play_at_driver_deg"] = round(played.at_deg, 4)
-        elif played is not None:  # settled by the bound: no point moves further than turn x reach
-            row["under_play_at_least_mm"] = rounded(played.distance, 6)
-        return row
 
     def _objectives(self, machine: PlanetaryMachine, judged: list[Judged], module: float, played: dict) -> dict:
         """Objectives i and ii on the bodies (and with the planets anywhere in their play), beside
@@ -547,55 +514,18 @@ class PlanetaryMachineStudy(StudyDefaults):
         key = "under_play_mm" if worst.exact else "under_play_at_least_mm"
         return {key: rounded(worst.distance, 6), "under_play_bodies": [worst.pair.a, worst.pair.b]}
 
-    def _pictures(self, bodies, links, machine, judged, phases) -> dict[str, bytes]:
-        def poses(theta):
-            return {
-                b.name: tuple(np.broadcast_to(v, theta.shape).copy() for v in links[b.link].pose(theta)) for b in bodies
-            }
-
-        frames = 2 * math.pi * np.arange(animation.GIF_FRAMES) / animation.GIF_FRAMES
-        gif = animation.gif_bytes(bodies, poses(frames), machine.tips(frames))
-        every = MOTION_POSITIONS // animation.SLIDER_POSITIONS
-        theta = 2 * math.pi * np.arange(0, MOTION_POSITIONS, every) / MOTION_POSITIONS
-        checked = [j for j in judged if not j.pair.working]
-        table = np.stack([j.sampled for j in checked])
-        nearest = np.argmin(table, axis=0)
-        clearance = [(float(table[k, i]), f"{checked[k].pair.a} - {checked[k].pair.b}") for i, k in enumerate(nearest)]
-        script = animation.slider_script(
-            bodies,
-            poses(theta),
-            machine.tips(theta),
-            np.degrees(theta),
-            [p[::every] for p in phases],
-            clearance,
-            [f"arm {k + 1}" for k in range(self.train.planets)],
-        )
-        return {f"{self.name}.animation.gif": gif, f"{self.name}.slider.js": script}
-
     def _assembly(self, bodies, machine, record: dict) -> tuple[dict, dict[str, bytes]]:
-        """A 3MF of the made parts where they sit at the start (each body from its re-read section,
-        on its layer; the planets where the assembly ``record`` puts them)."""
-        links = machine.links
-        placed, volumes = [], {}
+        """A 3MF of the made parts where they sit at the start, the planets where the assembly
+        ``record`` puts them (the middle of their play)."""
         start = self.train.carrier_start
         r = self.train.pair.centre_distance
-        at = {}  # each planet where the assembly record puts it (the middle of its play)
+        at = {}
         for k, (c, body) in enumerate(
             zip(record["planet_carrier_angles_deg"], record["planet_body_angle_to_carrier_line_deg"], strict=True)
         ):
             line = start + math.radians(c)
             at[f"planet.{k + 1}"] = (r * math.cos(line), r * math.sin(line), line + math.radians(body))
-        for b in bodies:
-            if b.link == "fixed":
-                continue
-            x, y, a = at.get(b.link) or (float(np.asarray(v).ravel()[0]) for v in links[b.link].pose(np.zeros(1)))
-            width = b.z[1] - b.z[0]
-            solid = solids.part_solid(b.section, shapely.Polygon(), solids.Features(), width)
-            placed.append((b.name, solid, formats.placement(x, y, b.z[0], a)))
-            volumes[b.name] = b.section.area * width
-        data = formats.THREEMF.write(placed)
-        res = formats.THREEMF.verify(data, list(volumes), volumes)
-        return {"file": f"{self.name}.assembly.3mf", **res}, {f"{self.name}.assembly.3mf": data}
+        return start_assembly(self.name, bodies, machine.links, at)
 
     def check(self, files: dict[str, bytes]) -> Checked:
         """The machine posed again from the files as found (the bodies re-read, the planets turned

@@ -31,7 +31,8 @@ class Making:
     dxf_versions: tuple[str, ...] = ("R2000",)
     #: write the STEP too (what CAD users open; ~1 s per 1000 arcs of outline)
     step: bool = True
-    #: how many of the part to make
+    #: how many of the part to make (0: drawn as the proof of what another part is cut from — its
+    #: notes say which)
     quantity: int = 1
     #: contour tolerance the shop holds, ± mm normal to the surface
     tolerance: float = WIRE_EDM_TOLERANCE
@@ -46,7 +47,7 @@ class Making:
         check_number("wire spark gap", self.wire[1], 0.0, 1.0, unit="mm")
         if not isinstance(self.step, bool):
             raise SpecError.out_of_range("step", self.step, "True or False")
-        check_int("quantity", self.quantity, 1, 10_000)
+        check_int("quantity", self.quantity, 0, 10_000)
         check_number("tolerance", self.tolerance, 0.0, 1.0, low_open=True, unit="mm")
         for v in self.dxf_versions:
             if v not in ("R2000", "R12"):
@@ -71,7 +72,8 @@ def manufacture(
     the contour tolerance from ``making``. Returns the results, the files by name and the
     :class:`~transplanter.formats.MadePart` (for assemblies).
     """
-    notes = (*notes, f"make {making.quantity}; contour tolerance +/-{making.tolerance:g} mm")
+    made = f"make {making.quantity}" if making.quantity else "do not cut this drawing as it is (see the notes above)"
+    notes = (*notes, f"{made}; contour tolerance +/-{making.tolerance:g} mm")
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
     bad = machining.wire_violations(section, wire_r)

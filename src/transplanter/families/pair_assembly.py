@@ -94,7 +94,7 @@ class Made:
     making: tuple[Making, Making]
 
 
-def _notes(cut: CutPair, k: int, making: Making, mark, train: TrainHook | None) -> tuple[str, ...]:
+def _notes(cut: CutPair, k: int, making: Making, mark, train: TrainHook | None, extra=()) -> tuple[str, ...]:
     role, other = ROLES[k], ROLES[1 - k]
     gear, mate, pair = cut.gears[k], cut.gears[1 - k], cut.pair
     external = pair.ring is None
@@ -119,12 +119,13 @@ def _notes(cut: CutPair, k: int, making: Making, mark, train: TrainHook | None) 
             "ZERO BACKLASH by request: no play for the cutting tolerance - the pair binds unless the centre "
             "distance is opened"
         )
-    return tuple(notes)
+    return (*notes, *extra)
 
 
-def make(cut: CutPair, making: tuple[Making, Making], train: TrainHook | None) -> Made:
-    """Each gear with its timing mark and notes, through :func:`making.manufacture` (its STEP is
-    written later, by :func:`assemble`, after the 3MF's re-read)."""
+def make(cut: CutPair, making: tuple[Making, Making], train: TrainHook | None, notes: tuple[str, ...] = ()) -> Made:
+    """Each gear with its timing mark and notes (``notes``: more for both), through
+    :func:`making.manufacture` (its STEP is written later, by :func:`assemble`, after the 3MF's
+    re-read)."""
     marks, results, files, parts, made = {}, {}, {}, {}, []
     for k, (role, gear) in enumerate(zip(ROLES, cut.gears, strict=True)):
         m = making[k]
@@ -143,7 +144,7 @@ def make(cut: CutPair, making: tuple[Making, Making], train: TrainHook | None) -
             gear.blank,
             gear.cut,
             dataclasses.replace(m, step=False),
-            _notes(cut, k, m, mark, train),
+            _notes(cut, k, m, mark, train, notes),
             lambda pt, g=gear: f"tooth space {g.nearest_space(pt)}",
             marks=((mark[0], mark[1], "TIMING"),),
         )
@@ -282,8 +283,8 @@ def assemble(
         role: step_file(made.parts[role], out) for role, making in zip(ROLES, made.making, strict=True) if making.step
     }
     out[f"{cut.name}.motion.csv"] = _motion_csv(cut.pair)
-    if train is not None:  # what poses the train's machine: the meshing measured on the DXFs
-        out[f"{cut.name}.dxf_meshing.csv"] = meshing_csv(dxf)
+    # what poses a machine built on the pair: the meshing measured on the re-read DXFs
+    out[f"{cut.name}.dxf_meshing.csv"] = meshing_csv(dxf)
     a = record
     out[f"{cut.name}.assembly.dxf"] = formats.DXF.assembly(
         cut.name,

@@ -1,0 +1,168 @@
+"""The parts seed 002's machine makes (:mod:`~transplanter.families.carrier_machine`), as a
+designer draws them (:mod:`transplanter.carrier_parts`), with their shafts, bolts and shop notes:
+carrier 1, carrier 2, the follower lever, the sector gears 7 and 8, the arm and its claw."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from transplanter import carrier_parts, formats, solids
+from transplanter.arm_parts import CLEARANCE_M4, TAP_DRILL_M4
+from transplanter.carriers import DoubleCarrierMachine
+
+__all__ = ["parts_to_make", "sector8_in_carrier2", "roller_z", "SHAFT_MM", "ROLLER_WIDTH_MM"]
+
+#: the roller: a 625 deep-groove ball bearing (5 x 16 x 5 mm) on a 5 mm pin
+ROLLER_PIN_MM = 5.0
+ROLLER_WIDTH_MM = 5.0
+#: shaft and bore diameters, mm: the gears' keyed shafts, the frame shaft through carrier 1
+SHAFT_MM = 12.0
+FRAME_SHAFT_MM = 30.0
+#: sector 8's two bolts to carrier 2 sit on this radius about A_c (the hubs are 20 mm), mm
+BOLT_CIRCLE_MM = 13.0
+
+
+def roller_z(layers) -> tuple[float, float]:
+    """The roller (5 mm wide) in the middle of the cam's plane."""
+    mid = 0.5 * sum(layers.cam)
+    return mid - ROLLER_WIDTH_MM / 2, mid + ROLLER_WIDTH_MM / 2
+
+
+def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) -> dict[str, tuple]:
+    """Each part the machine ``study`` (a ``DoubleCarrierMachineStudy``) makes, posed ``machine``,
+    from the files it ``used``: ``{part: (section, holes, making, notes)}``."""
+    lay = machine.layout
+    l1, l2, l3 = study.chain.link_lengths
+    f = study.cam.follower
+    L = study.layers
+    shaft = (SHAFT_MM / 2) + 8.0  # boss radius around a 12 mm shaft
+    c1 = carrier_parts.plate([(0.0, 0.0, 26.0), (*lay.s3, shaft), (l1, 0.0, shaft), (*lay.pivot, shaft)])
+    c1_holes = ((0.0, 0.0, FRAME_SHAFT_MM), (*lay.s3, SHAFT_MM), (l1, 0.0, SHAFT_MM), (*lay.pivot, SHAFT_MM))
+    # carrier 2 carries sector 8, bolted: two M4 on a circle about A_c
+    bolts = tuple(
+        (BOLT_CIRCLE_MM * math.cos(a), BOLT_CIRCLE_MM * math.sin(a)) for a in (0.25 * math.pi, 1.25 * math.pi)
+    )
+    c2 = carrier_parts.plate([(0.0, 0.0, 20.0), (*lay.idler, shaft), (l2, 0.0, shaft)])
+    c2_holes = (
+        (0.0, 0.0, SHAFT_MM),
+        (*lay.idler, SHAFT_MM),
+        (l2, 0.0, SHAFT_MM),
+        *((x, y, TAP_DRILL_M4) for x, y in bolts),
+    )
+    lever = carrier_parts.lever(f.arm_length, shaft, 7.0)
+    lever_holes = ((f.arm_length, 0.0, ROLLER_PIN_MM),)
+    # the sectors: the pair's gears kept over the contacts the swing uses
+    lo, hi = study._swing_range
+    pair = study.sectors.sized
+    pitch = 2 * math.pi / int(pair.sizing.teeth[0])
+    g7 = formats.section_of(f"{study.sectors.name}.driver.dxf", used[f"{study.sectors.name}.driver.dxf"])
+    g8 = formats.section_of(f"{study.sectors.name}.driven.dxf", used[f"{study.sectors.name}.driven.dxf"])
+    s7 = carrier_parts.sector(g7, lo, hi, pitch, 20.0)
+    s8 = carrier_parts.sector(g8, -hi, -lo, pitch, 20.0)
+    # sector 8's bolts where carrier 2's tapped holes are (carrier 2's frame -> sector 8's)
+    turn = -(sector8_in_carrier2(machine))
+    c, s = math.cos(turn), math.sin(turn)
+    s8_holes = tuple((c * x - s * y, s * x + c * y, CLEARANCE_M4) for x, y in bolts)
+    arm = carrier_parts.arm(l3, 16.0, 9.0, study.claw_at)
+    claw = carrier_parts.claw(l3, study.claw_at - 9.0, study.claw_width, study.claw_tab)
+    claw_bolts = ((study.claw_at - 9.0 + 5.0, 0.0), (study.claw_at - 9.0 + study.claw_tab - 5.0, 0.0))
+    tines = l3 - (study.claw_at - 9.0 + study.claw_tab)
+    where = "layer z {:g}..{:g} mm from the cam's back face"
+    return {
+        "carrier_1": (
+            c1,
+            c1_holes,
+            dataclasses.replace(study.plate, features=solids.Features(holes=c1_holes)),
+            (
+                "first planetary carrier (link 1): turns clockwise on the frame shaft (bore "
+                f"{FRAME_SHAFT_MM:g} mm at A0, its origin); +x to A_c",
+                f"shafts ({SHAFT_MM:g} mm): gears 3/4 at ({lay.s3[0]:.3f}, {lay.s3[1]:.3f}), gear 5/9 and "
+                f"carrier 2 at A_c ({l1:.4f}, 0), the follower at ({lay.pivot[0]:.3f}, {lay.pivot[1]:.3f}) mm",
+                "timing: its +x line through A_c at the chain's pose 1 (see the machine record)",
+                where.format(*L.carrier1),
+            ),
+        ),
+        "carrier_2": (
+            c2,
+            c2_holes,
+            dataclasses.replace(study.plate, features=solids.Features(holes=c2_holes)),
+            (
+                f"second planetary carrier (link 2): turns about A_c (its origin) on gear 5/9's shaft; +x to Q "
+                f"({l2:.4f}, 0)",
+                f"shafts ({SHAFT_MM:g} mm): the idler 10 at ({lay.idler[0]:.3f}, {lay.idler[1]:.3f}), gear 11 and "
+                "the arm at Q",
+                "mates with sector 8: 2 x M4 tapped (tap drill 3.3 mm) about A_c; sector 8's bolts set its angle",
+                where.format(*L.carrier2),
+            ),
+        ),
+        "lever": (
+            lever,
+            lever_holes,
+            dataclasses.replace(study.lever, features=solids.Features(bore=SHAFT_MM, holes=lever_holes)),
+            (
+                f"cam follower lever (7): pivot at its origin on carrier 1, keyed with sector 7 on one shaft; "
+                f"roller pin ({ROLLER_PIN_MM:g} mm, a 625 bearing, 16 mm) at ({f.arm_length:g}, 0) mm",
+                "timing: the key (+y) sets the lever to sector 7; the roller rides the cam",
+                where.format(*L.lever) + "; its roller in the cam's plane",
+            ),
+        ),
+        "sector_7": (
+            s7,
+            (),
+            dataclasses.replace(study.sector, features=solids.Features()),
+            (
+                f"sector gear 7 (the follower's): {study.sectors.name}.driver's teeth kept over the swing "
+                f"({math.degrees(hi - lo):.1f} deg) and 3 pitches each side; keyed on the lever's shaft",
+                f"mates with sector 8, centre distance {pair.pair.centre_distance:.4f} mm, ratio 1",
+                where.format(*L.sectors),
+            ),
+        ),
+        "sector_8": (
+            s8,
+            s8_holes,
+            dataclasses.replace(study.sector, features=solids.Features(holes=s8_holes)),
+            (
+                f"sector gear 8 (carrier 2's): {study.sectors.name}.driven's teeth kept over the swing; turns on "
+                "gear 5/9's shaft, bolted to carrier 2 (2 x M4 clearance 4.5 mm)",
+                f"mates with sector 7, centre distance {pair.pair.centre_distance:.4f} mm",
+                where.format(*L.sectors),
+            ),
+        ),
+        "arm": (
+            arm,
+            (),
+            dataclasses.replace(
+                study.arm,
+                features=solids.Features(bore=SHAFT_MM, holes=tuple((x, y, TAP_DRILL_M4) for x, y in claw_bolts)),
+            ),
+            (
+                f"transplanting arm (link 3): keyed to gear 11's shaft at Q (its origin); the claw tip at "
+                f"({l3:g}, 0) mm",
+                "timing: the key (+y) sets the arm to gear 11 (see the machine record's key angles)",
+                "2 x M4 tapped (tap drill 3.3 mm) for the claw",
+                where.format(*L.arm),
+            ),
+        ),
+        "claw": (
+            claw,
+            tuple((x, y, CLEARANCE_M4) for x, y in claw_bolts),
+            dataclasses.replace(
+                study.claw, features=solids.Features(holes=tuple((x, y, CLEARANCE_M4) for x, y in claw_bolts))
+            ),
+            (
+                f"clamping claw: its tines' section in the arm's frame, {tines:.0f} mm free to enter the pot "
+                "(seed 002 requirement 3: >= 30 mm); bolted on the arm (2 x M4)",
+                f"tip (point R{carrier_parts.TIP_RADIUS_MM:g}) at ({l3:g}, 0) mm",
+                where.format(*L.claw),
+            ),
+        ),
+    }
+
+
+def sector8_in_carrier2(machine: DoubleCarrierMachine) -> float:
+    """Sector 8's DXF frame angle in carrier 2's frame (fixed: it is bolted there)."""
+    p = machine.poses(np.zeros(1))
+    return float(p["sector8"][2][0] - p["carrier2"][2][0])
