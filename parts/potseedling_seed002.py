@@ -62,15 +62,30 @@ def family() -> Family:
     gears_35, sizing_35 = stages.stage35.sized(module=MODULE)
     gear = Making(width=GEAR_WIDTH, features=Features(bore=GEAR_BORE))
     cutter = ShaperCutter(CUTTER_TEETH)
-    stage_23 = ToothedPairStudy("gears_2_3", gears_23, cutter, sizing_23.teeth[0], making=(gear, gear))
-    stage_35 = ToothedPairStudy("gears_3_5", gears_35, cutter, sizing_35.teeth[0], making=(gear, gear))
+    keys = "the shaft's keyways: machine.machine.json keys_deg"
+    stage_23 = ToothedPairStudy(
+        "gears_2_3",
+        gears_23,
+        cutter,
+        sizing_23.teeth[0],
+        making=(gear, gear),
+        notes=(f"the sun 2 (driver, fixed) and gear 3 (driven, on gear 4's shaft) mount face down; {keys}",),
+    )
+    stage_35 = ToothedPairStudy(
+        "gears_3_5",
+        gears_35,
+        cutter,
+        sizing_35.teeth[0],
+        making=(gear, gear),
+        notes=(f"gear 4 (driver) on gear 3's shaft, gear 5 (driven) on gear 9's; {keys}",),
+    )
     sector_pair = GearPair.from_driver(PitchCurve.circle(SECTOR_MODULE * SECTOR_TEETH / 2), Mesh.EXTERNAL, 1)
     sectors = ToothedPairStudy(
         "gears_7_8",
         sector_pair,
         cutter,
         SECTOR_TEETH,
-        making=(Making(width=GEAR_WIDTH, features=Features(bore=GEAR_BORE), quantity=0),) * 2,
+        making=(Making(width=GEAR_WIDTH, features=Features(bore=GEAR_BORE), quantity=0, step=False),) * 2,
         notes=("the teeth of sector gears 7 and 8: the shop cuts machine.sector_7.dxf and machine.sector_8.dxf",),
     )
     spur_pair = GearPair.from_driver(PitchCurve.circle(MODULE * SPUR_TEETH / 2), Mesh.EXTERNAL, 1)
@@ -81,7 +96,7 @@ def family() -> Family:
         cutter,
         SPUR_TEETH,
         making=(dataclasses.replace(spur, quantity=2), spur),
-        notes=("gears 9 and 11 are the driver (make 2), the idler 10 the driven; all three mesh mirrored",),
+        notes=(f"gears 9 and 11 are the driver (make 2), the idler 10 the driven; all three mount face down; {keys}",),
     )
     cam = CamStudy(
         "swing_cam",

@@ -94,6 +94,23 @@ def test_the_claw_passes_the_four_poses_and_the_gearbox_clears_the_soil(built):
     assert by_pair[frozenset(("gear_9", "gear_11"))]["min_mm"] > 30.0  # 9 and 11 never meet
 
 
+def test_the_claw_tip_envelope_under_the_meshes_play(built):
+    """Every mesh anywhere within its measured play: the arm turns by at most the sum of the
+    plays (stage 2-3's carried through 4-5's ratio), carrier 2 by the sectors'; the tip's envelope
+    is what those turns can move it — no more than L2 and L3 times them."""
+    folder, rec = _machine(built)
+    under = rec["results"]["machine"]["tip_under_play"]
+    plays = under["plays_deg"]
+    for pair, record in (("stage23", "gears_2_3"), ("sectors", "gears_7_8"), ("spurs", "gears_9_10")):
+        teeth = json.loads((folder / f"{record}.teeth.json").read_text())["results"]["assembly"]
+        assert 0.0 < plays[pair] and teeth["backlash_mm"]["max"] > 0.0
+    assert under["arm_turn_max_deg"] >= plays["stage35"] + 2 * plays["spurs"]
+    assert under["carrier_2_turn_deg"] >= plays["sectors"]
+    bound = 75.56 * math.radians(under["carrier_2_turn_deg"]) + 125.0 * math.radians(under["arm_turn_max_deg"])
+    assert 0.1 < under["max_mm"] <= bound + 1e-6
+    assert 0.0 < under["picking_max_mm"] <= under["max_mm"] and 0.0 < under["planting_max_mm"] <= under["max_mm"]
+
+
 def test_the_gear_and_cam_routes_reproduce_the_chain(seed002):
     """With design meshes (no measured error) and the cam's law, the carriers, gears and arm
     posed by DoubleCarrierMachine put the tip where the open chain does (to 0.02 mm: the swing

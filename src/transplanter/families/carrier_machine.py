@@ -332,7 +332,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             "driver": "carrier 1, deg of clockwise turn from the chain's pose 1 (seed 002's tau)",
             "frame": (
                 "A0 (the carrier axis) at the origin, y up: seed 002's Table 1 frame turned "
-                f"{math.degrees(machine.frame[2]):.4f} deg about A0 so that the tip's farthest reach points down"
+                f"{math.degrees(machine.frame[2]):.1f} deg about A0 so that the tip's farthest reach points down"
             ),
             "bodies": {
                 b.name: {
@@ -362,6 +362,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             },
             "soil_level_mm": rounded(float(soil.section.bounds[3]), 6),
             "poses": poses["rows"],
+            "tip_under_play": self._tip_under_play(machine, files, float(soil.section.bounds[3])),
             "animation": f"{self.name}.animation.gif",
             "slider": f"{self.name}.slider.js",
         }
@@ -415,6 +416,56 @@ class DoubleCarrierMachineStudy(StudyDefaults):
                     f"{self.pose_tolerance[0]:g} mm, {self.pose_tolerance[1]:g} deg)"
                 )
         return {"rows": rows, "problems": problems}
+
+    def _plays(self, files: dict[str, bytes]) -> dict[str, float]:
+        """Each mesh's play as a turn of its driven gear (rad): the largest free play its proof
+        measured on the re-read DXFs (``assembly.backlash_mm.max``, circumferential at the pitch
+        point) over the driven gear's smallest pitch radius — a bound, not a sample."""
+        out = {}
+        for what in ("stage23", "stage35", "sectors", "spurs"):
+            study = getattr(self, what)
+            record = json.loads(files[f"{study.name}.teeth.json"])["results"]["assembly"]
+            out[what] = float(record["backlash_mm"]["max"]) / study.sized.pair.driven.min_radius().value
+        return out
+
+    def _tip_under_play(self, machine: DoubleCarrierMachine, files: dict[str, bytes], soil: float) -> dict:
+        """The claw tip's envelope when every mesh sits anywhere within its play (:meth:`_plays`)
+        and the follower within its error on the cam DXF: carrier 2 turns by up to the sectors'
+        play plus the follower's error over its arm, the arm by up to stage 2-3's play carried
+        through stage 4-5's ratio plus stage 4-5's and both spur meshes' (9-10, 10-11); the tip's
+        largest distance from its made path over the four sign combinations, at 1440 positions."""
+        play = self._plays(files)
+        theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
+        t3 = machine.stage23.driven(theta)
+        ratio35 = np.abs(np.asarray(machine.stage35.pair.ratio(t3), dtype=float))
+        follower_err = float(np.max(np.abs(machine.swing - self.cam.motion(machine.swing_at))))
+        carrier2 = play["sectors"] + follower_err
+        arm = play["stage23"] * ratio35 + play["stage35"] + 2 * play["spurs"]
+        p = machine.poses(theta)
+        ax, ay, c2 = p["carrier2"]
+        _, _, a3 = p["arm"]
+        l2, l3 = self.chain.link_lengths[1:]
+        tip = np.stack([ax + l2 * np.cos(c2) + l3 * np.cos(a3), ay + l2 * np.sin(c2) + l3 * np.sin(a3)], axis=1)
+        envelope = np.zeros(len(theta))
+        for s2 in (-1.0, 1.0):
+            for s3 in (-1.0, 1.0):
+                b2, b3 = c2 + s2 * carrier2, a3 + s3 * arm
+                moved = np.stack([ax + l2 * np.cos(b2) + l3 * np.cos(b3), ay + l2 * np.sin(b2) + l3 * np.sin(b3)], 1)
+                envelope = np.maximum(envelope, np.linalg.norm(moved - tip, axis=1))
+        at = int(np.argmax(envelope))
+        t1, t2, t3p = (float(v) for v in self.chain.pose_tau[:3])
+        picking = (theta >= t1) & (theta <= t2)
+        planting = tip[:, 1] < soil
+        return {
+            "plays_deg": {k: rounded(math.degrees(v), 6) for k, v in play.items()},
+            "carrier_2_turn_deg": rounded(math.degrees(carrier2), 6),
+            "arm_turn_max_deg": rounded(math.degrees(float(arm.max())), 6),
+            "max_mm": rounded(float(envelope[at]), 6),
+            "at_driver_deg": round(math.degrees(theta[at]), 4),
+            "picking_max_mm": rounded(float(envelope[picking].max()), 6),
+            "planting_max_mm": rounded(float(envelope[planting].max()), 6) if planting.any() else None,
+            "at_pose_3_mm": rounded(float(envelope[int(np.argmin(np.abs(theta - t3p)))]), 6),
+        }
 
     def _phases(self, machine: DoubleCarrierMachine, tip: np.ndarray, soil: float) -> list[str]:
         """The claw's phase at each motion-table position: picking from pose 1 to pose 2, planting
@@ -476,7 +527,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             "cam": f"{self.cam.name}.cam.dxf (the follower run on it again)",
             **posed_from,
         }
-        record["keys_deg"] = self._keys(machine)
+        record["keys_deg"] = carrier_making.shaft_keys(machine)
         results["machine"] = record
         files.update(judged["files"])
         results["assembly"], more = start_assembly(self.name, judged["bodies"], judged["links"], {})
@@ -494,22 +545,6 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             "uses": list(self.uses),
         }
         return Built({"kind": "machine", "parameters": params, "results": results}, files)
-
-    def _keys(self, machine: DoubleCarrierMachine) -> dict:
-        """How the parts on one shaft are keyed to each other: the angle of each DXF frame from its
-        shaft-mate's at the start (deg) — what a shop sets when it cuts the keyways."""
-        p = machine.poses(np.zeros(1))
-
-        def diff(a: str, b: str) -> float:
-            return round(math.degrees(math.remainder(float(p[a][2][0] - p[b][2][0]), 2 * math.pi)), 4)
-
-        return {
-            "gear_4_from_gear_3": diff("shaft3b", "shaft3"),
-            "gear_9_from_gear_5": diff("gear9", "shaft5"),
-            "sector_7_from_lever": diff("sector7", "follower"),
-            "arm_from_gear_11": diff("arm", "gear11"),
-            "sector_8_from_carrier_2": diff("sector8", "carrier2"),
-        }
 
     def check(self, files: dict[str, bytes]) -> Checked:
         """The machine posed again from the files as found and every clearance judged again; each

@@ -13,7 +13,7 @@ from transplanter import carrier_parts, formats, solids
 from transplanter.arm_parts import CLEARANCE_M4, TAP_DRILL_M4
 from transplanter.carriers import DoubleCarrierMachine
 
-__all__ = ["parts_to_make", "sector8_in_carrier2", "roller_z", "SHAFT_MM", "ROLLER_WIDTH_MM"]
+__all__ = ["parts_to_make", "sector8_in_carrier2", "shaft_keys", "roller_z", "SHAFT_MM", "ROLLER_WIDTH_MM"]
 
 #: the roller: a 625 deep-groove ball bearing (5 x 16 x 5 mm) on a 5 mm pin
 ROLLER_PIN_MM = 5.0
@@ -71,6 +71,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
     claw_bolts = ((study.claw_at - 9.0 + 5.0, 0.0), (study.claw_at - 9.0 + study.claw_tab - 5.0, 0.0))
     tines = l3 - (study.claw_at - 9.0 + study.claw_tab)
     where = "layer z {:g}..{:g} mm from the cam's back face"
+    keys = shaft_keys(machine)
     return {
         "carrier_1": (
             c1,
@@ -81,6 +82,8 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"{FRAME_SHAFT_MM:g} mm at A0, its origin); +x to A_c",
                 f"shafts ({SHAFT_MM:g} mm): gears 3/4 at ({lay.s3[0]:.3f}, {lay.s3[1]:.3f}), gear 5/9 and "
                 f"carrier 2 at A_c ({l1:.4f}, 0), the follower at ({lay.pivot[0]:.3f}, {lay.pivot[1]:.3f}) mm",
+                "mates with the frame shaft (a bearing at A0) and carries gears 3/4, gear 5/9, the follower and "
+                "carrier 2 on their shafts",
                 "timing: its +x line through A_c at the chain's pose 1 (see the machine record)",
                 where.format(*L.carrier1),
             ),
@@ -94,7 +97,8 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"({l2:.4f}, 0)",
                 f"shafts ({SHAFT_MM:g} mm): the idler 10 at ({lay.idler[0]:.3f}, {lay.idler[1]:.3f}), gear 11 and "
                 "the arm at Q",
-                "mates with sector 8: 2 x M4 tapped (tap drill 3.3 mm) about A_c; sector 8's bolts set its angle",
+                "mates with sector 8: 2 x M4 tapped (tap drill 3.3 mm) about A_c",
+                f"timing: sector 8's bolts set it {keys['sector_8_from_carrier_2']:g} deg from sector 8's DXF frame",
                 where.format(*L.carrier2),
             ),
         ),
@@ -105,7 +109,9 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
             (
                 f"cam follower lever (7): pivot at its origin on carrier 1, keyed with sector 7 on one shaft; "
                 f"roller pin ({ROLLER_PIN_MM:g} mm, a 625 bearing, 16 mm) at ({f.arm_length:g}, 0) mm",
-                "timing: the key (+y) sets the lever to sector 7; the roller rides the cam",
+                "mates with the cam (its roller on the cam's profile) and sector 7 (keyed on one shaft)",
+                f"timing: sector 7's DXF frame is {keys['sector_7_from_lever']:g} deg from the lever's: the "
+                "shaft's keyways for the two that far apart (each part's keyway at its +y)",
                 where.format(*L.lever) + "; its roller in the cam's plane",
             ),
         ),
@@ -117,6 +123,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"sector gear 7 (the follower's): {study.sectors.name}.driver's teeth kept over the swing "
                 f"({math.degrees(hi - lo):.1f} deg) and 3 pitches each side; keyed on the lever's shaft",
                 f"mates with sector 8, centre distance {pair.pair.centre_distance:.4f} mm, ratio 1",
+                "timing: its timing hole meets sector 8's at the swing's start (the follower on the cam's base circle)",
                 where.format(*L.sectors),
             ),
         ),
@@ -128,6 +135,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"sector gear 8 (carrier 2's): {study.sectors.name}.driven's teeth kept over the swing; turns on "
                 "gear 5/9's shaft, bolted to carrier 2 (2 x M4 clearance 4.5 mm)",
                 f"mates with sector 7, centre distance {pair.pair.centre_distance:.4f} mm",
+                "timing: its timing hole meets sector 7's at the swing's start; its bolts set it on carrier 2",
                 where.format(*L.sectors),
             ),
         ),
@@ -141,7 +149,9 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
             (
                 f"transplanting arm (link 3): keyed to gear 11's shaft at Q (its origin); the claw tip at "
                 f"({l3:g}, 0) mm",
-                "timing: the key (+y) sets the arm to gear 11 (see the machine record's key angles)",
+                "mates with gear 11 (keyed on one shaft at Q) and the claw (bolted)",
+                f"timing: gear 11's DXF frame is {-keys['arm_from_gear_11']:g} deg from the arm's: the shaft's "
+                "keyways for the two that far apart (each part's keyway at its +y)",
                 "2 x M4 tapped (tap drill 3.3 mm) for the claw",
                 where.format(*L.arm),
             ),
@@ -156,6 +166,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"clamping claw: its tines' section in the arm's frame, {tines:.0f} mm free to enter the pot "
                 "(seed 002 requirement 3: >= 30 mm); bolted on the arm (2 x M4)",
                 f"tip (point R{carrier_parts.TIP_RADIUS_MM:g}) at ({l3:g}, 0) mm",
+                "mates with the arm: timing by its two bolt holes on the arm's tapped holes",
                 where.format(*L.claw),
             ),
         ),
@@ -166,3 +177,20 @@ def sector8_in_carrier2(machine: DoubleCarrierMachine) -> float:
     """Sector 8's DXF frame angle in carrier 2's frame (fixed: it is bolted there)."""
     p = machine.poses(np.zeros(1))
     return float(p["sector8"][2][0] - p["carrier2"][2][0])
+
+
+def shaft_keys(machine: DoubleCarrierMachine) -> dict[str, float]:
+    """How the parts on one shaft (or bolted together) turn from each other: the angle of each DXF
+    frame from its mate's at the start, deg — what a shop sets when it cuts the keyways."""
+    p = machine.poses(np.zeros(1))
+
+    def diff(a: str, b: str) -> float:
+        return round(math.degrees(math.remainder(float(p[a][2][0] - p[b][2][0]), 2 * math.pi)), 4)
+
+    return {
+        "gear_4_from_gear_3": diff("shaft3b", "shaft3"),
+        "gear_9_from_gear_5": diff("gear9", "shaft5"),
+        "sector_7_from_lever": diff("sector7", "follower"),
+        "arm_from_gear_11": diff("arm", "gear11"),
+        "sector_8_from_carrier_2": diff("sector8", "carrier2"),
+    }
