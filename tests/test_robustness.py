@@ -348,7 +348,7 @@ def test_check_reports_damaged_files_and_goes_on(tmp_path, capsys, monkeypatch):
     assert "file manifest.json: damaged" in text
     assert "file p.driver.dxf: changed since the build" in text and "file p.driven.stl: changed" in text
     assert "p: PROBLEM: dxf: cannot read p.driver.dxf" in text and "p: PROBLEM: stl: cannot read p.driven.stl" in text
-    assert "p [outline]: overlap 0 mm²" in text  # the rest is still checked
+    assert "p [p.assembly.3mf]: 2 bodies" in text  # the rest is still checked
 
 
 # -- a rebuild killed midway leaves the old export or the new one, never a mix --------------

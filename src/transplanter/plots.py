@@ -394,7 +394,8 @@ def meshing_figure(
         ax.set_xticks(range(0, 361, 45))
         ax.set_xlabel("driver angle (deg)")
         ax.grid(True, lw=0.3)
-        ax.legend(fontsize=7, loc="upper right")
+        if ax.get_legend_handles_labels()[0]:  # nothing to name when no source could be read
+            ax.legend(fontsize=7, loc="upper right")
     if train is not None:
         ax4 = axes[4]
         ax4.plot(np.degrees(train.theta), 1000 * train.deviation, "C3.", ms=2)

@@ -13,7 +13,7 @@ from transplanter.export import json_bytes
 from transplanter.families import pair_assembly
 from transplanter.families.making import Making, check_shop_files
 from transplanter.families.pair_cut import Sized, cut, rejected_alternatives, size
-from transplanter.families.pair_proof import PairProof, TrainHook, screen_verdict
+from transplanter.families.pair_proof import SHOP_SOURCES, SOURCES, PairProof, TrainHook, screen_verdict
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.pitch import GearPair, Mesh
 from transplanter.tolerances import WIRE_EDM_TOLERANCE
@@ -244,11 +244,12 @@ class ToothedPairStudy(StudyDefaults):
         return Built({"kind": "toothed_pair", "parameters": params, "results": results}, files)
 
     def check(self, files: dict[str, bytes]) -> Checked:
-        """Re-run the meshing checks on this part's files as found on disk (and say so when a
-        DXF is the design turned about its axis); a pair built as a finding (``must_mesh``
-        False) is expected not to mesh."""
+        """Re-run the meshing checks on this part's shop files as found on disk — the DXF and the
+        STL (the outline CSV is the design's own record, proved at the build and held to its
+        digest); say so when a DXF is the design turned about its axis. A pair built as a finding
+        (``must_mesh`` False, no shop files) is checked on its outline and expected not to mesh."""
         proof = self.proof
-        reports = proof.mesh(files)
+        reports = proof.mesh(files, SHOP_SOURCES if self.must_mesh and self.making is not None else SOURCES)
         results, _, problems = proof.results(reports)
         problems += pair_assembly.meshing_table_problems(files, f"{self.name}.dxf_meshing.csv", reports.get("dxf"))
         made, more = self._check_made(files)

@@ -27,10 +27,12 @@ from transplanter.pitch import GearPair
 from transplanter.precision import rounded
 from transplanter.tolerances import PENETRATION_TOL, SHOP_OVERLAP_MM2
 
-__all__ = ["PairProof", "TrainHook", "screen_verdict"]
+__all__ = ["PairProof", "TrainHook", "screen_verdict", "SOURCES", "SHOP_SOURCES"]
 
 #: the sources a pair is meshed from: the generated outlines, the DXF and the STL's mid-plane section
 SOURCES = ("outline", "dxf", "stl")
+#: what a shop receives: the sources ``check`` re-proves on the files as found
+SHOP_SOURCES = ("dxf", "stl")
 
 
 @runtime_checkable
