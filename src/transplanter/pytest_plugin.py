@@ -15,10 +15,18 @@ Set-up (``pyproject.toml`` of your project; the plugin comes with transplanter):
     transplanter_golden = "golden"        # where the records live (default: golden)
     transplanter_jobs = "2"               # processes of the shared build (default: 2)
 
+    transplanter_recheck = "true"         # re-run each part's proofs on its files (default)
+
 Then ``pytest`` runs ``parts/<script>.py::<part>`` items; ``pytest --update-golden`` writes or
 rewrites the records (``golden/<family>/<part>.json``). Every family is built once per run —
 with pytest-xdist, once for all workers — into the run's temporary folder; the
 ``transplanter_built`` fixture gives that folder to your own tests.
+
+The shared build already ran every part's proofs on the bytes it wrote; each item holds the
+files on disk to the digests the manifest records for them and, with ``transplanter_recheck``
+(the default), re-runs the part's ``check`` on them as ``transplanter check --run-script`` would —
+``false`` trusts the build's proofs of those very bytes (a suite that tests ``check`` on its
+own).
 
 Numbers compare within ``transplanter_golden_rtol`` (relative, default 1e-6) or 1e-9 absolute
 (figures are written rounded, see :mod:`transplanter.precision`); everything else exactly.
@@ -26,6 +34,7 @@ Numbers compare within ``transplanter_golden_rtol`` (relative, default 1e-6) or 
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 from pathlib import Path
@@ -45,6 +54,12 @@ def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addini("transplanter_golden", "folder of the parts' golden records", default="golden")
     parser.addini("transplanter_golden_rtol", "relative tolerance of numbers against the records", default="1e-6")
     parser.addini("transplanter_jobs", "processes the shared build uses", default="2")
+    parser.addini(
+        "transplanter_recheck",
+        "re-run each part's proofs on its files after the shared build (false: hold the files to the digests "
+        "the build proved them under)",
+        default="true",
+    )
 
 
 def _parts_dir(config: pytest.Config) -> Path | None:
@@ -152,11 +167,15 @@ class PartItem(pytest.Item):
         if record is None or "error" in record:
             raise PartFailure(f"the part did not build: {record['error'] if record else 'not in the manifest'}")
         files = {name: (root / name).read_bytes() for name in record["files"]}
-        for used in getattr(self.part, "uses", ()) or ():  # a machine's proofs read its gears' files too
-            files = {**{n: (root / n).read_bytes() for n in manifest["parts"][used].get("files", {})}, **files}
-        checked = self.part.check(files)
-        if checked is not None and checked.problems and not checked.expected:
-            raise PartFailure("its proofs fail on its own files:\n  " + "\n  ".join(checked.problems))
+        changed = sorted(n for n, d in record["files"].items() if hashlib.sha256(files[n]).hexdigest() != d)
+        if changed:
+            raise PartFailure(f"its files are not the ones the build proved: {changed}")
+        if self.config.getini("transplanter_recheck").strip().lower() in ("true", "1", "yes"):
+            for used in getattr(self.part, "uses", ()) or ():  # a machine's proofs read its gears' files too
+                files = {**{n: (root / n).read_bytes() for n in manifest["parts"][used].get("files", {})}, **files}
+            checked = self.part.check(files)
+            if checked is not None and checked.problems and not checked.expected:
+                raise PartFailure("its proofs fail on its own files:\n  " + "\n  ".join(checked.problems))
         found = {k: v for k, v in record.items() if k != "files"}
         golden_dir = Path(self.config.rootpath) / self.config.getini("transplanter_golden") / self.family.name
         path = golden_dir / f"{self.part.name}.json"
