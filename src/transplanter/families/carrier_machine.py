@@ -51,6 +51,7 @@ from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.machine_record import (
     OBSTACLE,
     clearance_row,
+    judged_again,
     obstacle_file,
     pictures,
     read_bodies,
@@ -551,13 +552,10 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         must be the recorded one."""
         machine, _ = self._machine(files)
         judged = self._judge(files, machine, shown=False)
-        stated = json.loads(files[f"{self.name}.machine.json"])
-        problems = list(judged["problems"])
-        was = {tuple(r["bodies"]): r["min_mm"] for r in stated["clearances"]}
-        for row in judged["record"]["clearances"]:
-            before = was.get(tuple(row["bodies"]))
-            if before is None or abs(before - row["min_mm"]) > 1e-6:
-                problems.append(f"{' and '.join(row['bodies'])}: {row['min_mm']} mm now, {before} mm recorded")
+        again, summary = judged_again(
+            judged["record"]["clearances"], files[f"{self.name}.machine.json"], lambda r: r["required_mm"]
+        )
+        problems = list(judged["problems"]) + again
         made, more = check_shop_files(
             files,
             {
@@ -575,15 +573,6 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if not b.dxf.endswith(OBSTACLE)]),
         )
         problems += more
-        rows = [r for r in judged["record"]["clearances"] if "working" not in r]
-        near = min(rows, key=lambda r: r["min_mm"] - r["required_mm"])  # the least margin
-        summary = {
-            "pairs_judged": len(rows),
-            "smallest_mm": near["min_mm"],
-            "between": " - ".join(near["bodies"]),
-            "at_driver_deg": near["at_driver_deg"],
-            "required_mm": near["required_mm"],
-        }
         return Checked({"clearances": summary, "made": made}, problems)
 
 

@@ -49,6 +49,7 @@ from transplanter.families.gears import ToothedPairStudy
 from transplanter.families.machine_record import (
     OBSTACLE,
     clearance_row,
+    judged_again,
     obstacle_file,
     pictures,
     read_bodies,
@@ -534,13 +535,10 @@ class PlanetaryMachineStudy(StudyDefaults):
         record, names, turn = self._inputs(files)
         machine, _ = self._posed(files, record, names)
         judged = self._judge(files, names, machine, float(record["module_mm"]), turn, shown=False)
-        stated = json.loads(files[f"{self.name}.machine.json"])
-        problems = list(judged["problems"])
-        was = {tuple(r["bodies"]): r["min_mm"] for r in stated["clearances"]}
-        for row in judged["record"]["clearances"]:
-            before = was.get(tuple(row["bodies"]))
-            if before is None or abs(before - row["min_mm"]) > 1e-6:
-                problems.append(f"{' and '.join(row['bodies'])}: {row['min_mm']} mm now, {before} mm recorded")
+        again, summary = judged_again(
+            judged["record"]["clearances"], files[f"{self.name}.machine.json"], lambda r: self.clearance
+        )
+        problems = list(judged["problems"]) + again
         # the arm parts' STEP against their DXF and the machine's 3MF, re-read as the other parts' are
         made, more = check_shop_files(
             files,
@@ -548,13 +546,4 @@ class PlanetaryMachineStudy(StudyDefaults):
             (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if b.link != "fixed"]),
         )
         problems += more
-        rows = [r for r in judged["record"]["clearances"] if "working" not in r]
-        near = min(rows, key=lambda r: r["min_mm"])
-        summary = {
-            "pairs_judged": len(rows),
-            "smallest_mm": near["min_mm"],
-            "between": " - ".join(near["bodies"]),
-            "at_driver_deg": near["at_driver_deg"],
-            "required_mm": self.clearance,
-        }
         return Checked({"clearances": summary, "made": made}, problems)

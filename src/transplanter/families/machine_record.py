@@ -7,6 +7,7 @@ Shared by :mod:`~transplanter.families.machine` (seed 004) and
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -16,7 +17,16 @@ from transplanter import animation, formats, solids
 from transplanter.machine import MOTION_POSITIONS, Body, Judged
 from transplanter.precision import rounded
 
-__all__ = ["OBSTACLE", "OUTLINE_TOL_MM", "obstacle_file", "read_bodies", "clearance_row", "pictures", "start_assembly"]
+__all__ = [
+    "OBSTACLE",
+    "OUTLINE_TOL_MM",
+    "obstacle_file",
+    "read_bodies",
+    "clearance_row",
+    "judged_again",
+    "pictures",
+    "start_assembly",
+]
 
 #: the suffix of an obstacle's section (the seedling box, the soil): a DXF that is not a part
 OBSTACLE = ".obstacle.dxf"
@@ -114,3 +124,26 @@ def start_assembly(name: str, bodies, links, at: dict) -> tuple[dict, dict[str, 
     data = formats.THREEMF.write(placed)
     res = formats.THREEMF.verify(data, list(volumes), volumes)
     return {"file": f"{name}.assembly.3mf", **res}, {f"{name}.assembly.3mf": data}
+
+
+def judged_again(rows: list[dict], stated: bytes, required) -> tuple[list[str], dict]:
+    """The clearance ``rows`` judged again from the files against the record ``stated`` (a
+    ``<machine>.machine.json``): a problem for each that moved by more than 1e-6 mm or is not
+    recorded; and the summary a check prints — the pair nearest its requirement
+    (``required(row)``, mm)."""
+    was = {tuple(r["bodies"]): r["min_mm"] for r in json.loads(stated)["clearances"]}
+    problems = []
+    for row in rows:
+        before = was.get(tuple(row["bodies"]))
+        if before is None or abs(before - row["min_mm"]) > 1e-6:
+            problems.append(f"{' and '.join(row['bodies'])}: {row['min_mm']} mm now, {before} mm recorded")
+    judged = [r for r in rows if "working" not in r]
+    near = min(judged, key=lambda r: r["min_mm"] - required(r))
+    summary = {
+        "pairs_judged": len(judged),
+        "smallest_mm": near["min_mm"],
+        "between": " - ".join(near["bodies"]),
+        "at_driver_deg": near["at_driver_deg"],
+        "required_mm": required(near),
+    }
+    return problems, summary
