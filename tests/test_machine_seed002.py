@@ -94,6 +94,30 @@ def test_the_claw_passes_the_four_poses_and_the_gearbox_clears_the_soil(built):
     assert by_pair[frozenset(("gear_9", "gear_11"))]["min_mm"] > 30.0  # 9 and 11 never meet
 
 
+def test_parts_on_one_shaft_turn_together_and_their_keys_are_stated(built):
+    """From the motion table: the parts keyed on one shaft keep their angle to each other over the
+    whole cycle, and the record's keyway angles are those of the parts' +y (a part mounted face
+    down shows its keyway at -y)."""
+    folder, rec = _machine(built)
+    machine = rec["results"]["machine"]
+    table = np.loadtxt(folder / machine["motion"], delimiter=",", skiprows=1)
+    cols = (folder / machine["motion"]).read_text().splitlines()[0].split(",")
+
+    def keyway(name):
+        turn = -90.0 if machine["bodies"][name].get("mirrored") else 90.0
+        return table[:, cols.index(f"{name}.angle_deg")] + turn
+
+    for a, b, key in (
+        ("gear_4", "gear_3", "gear_4_keyway_from_gear_3s"),
+        ("gear_9", "gear_5", "gear_9_keyway_from_gear_5s"),
+        ("sector_7", "lever", "sector_7_keyway_from_the_levers"),
+        ("arm", "gear_11", "arm_keyway_from_gear_11s"),
+    ):
+        apart = (keyway(a) - keyway(b) + 180.0) % 360.0 - 180.0
+        assert np.ptp(apart) < 1e-5, (a, b)  # keyed: they turn together
+        assert apart[0] == pytest.approx(machine["keys_deg"][key], abs=1e-3)
+
+
 def test_the_claw_tip_envelope_under_the_meshes_play(built):
     """Every mesh anywhere within its measured play: the arm turns by at most the sum of the
     plays (stage 2-3's carried through 4-5's ratio), carrier 2 by the sectors'; the tip's envelope

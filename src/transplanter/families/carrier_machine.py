@@ -242,25 +242,27 @@ class DoubleCarrierMachineStudy(StudyDefaults):
     def _specs(self) -> list[tuple[str, str, tuple[float, float], str, bool]]:
         L, n = self.layers, self.name
         s23, s35, sp = self.stage23.name, self.stage35.name, self.spurs.name
-        return [
+        specs = [
             ("carrier_1", f"{n}.carrier_1.dxf", L.carrier1, "carrier1", False),
             ("cam", f"{self.cam.name}.cam.dxf", L.cam, "cam", False),
             ("lever", f"{n}.lever.dxf", L.lever, "follower", False),
             ("roller", f"{n}.roller{BOUGHT}", carrier_making.roller_z(self.layers), "roller", False),
-            ("sun", f"{s23}.driver.dxf", L.stage23, "sun", True),
-            ("gear_3", f"{s23}.driven.dxf", L.stage23, "shaft3", True),
+            ("sun", f"{s23}.driver.dxf", L.stage23, "sun", False),
+            ("gear_3", f"{s23}.driven.dxf", L.stage23, "shaft3", False),
             ("gear_4", f"{s35}.driver.dxf", L.stage35, "shaft3b", False),
             ("gear_5", f"{s35}.driven.dxf", L.stage35, "shaft5", False),
             ("sector_7", f"{n}.sector_7.dxf", L.sectors, "sector7", False),
             ("sector_8", f"{n}.sector_8.dxf", L.sectors, "sector8", False),
             ("carrier_2", f"{n}.carrier_2.dxf", L.carrier2, "carrier2", False),
-            ("gear_9", f"{sp}.driver.dxf", L.spurs, "gear9", True),
-            ("gear_10", f"{sp}.driven.dxf", L.spurs, "idler", True),
-            ("gear_11", f"{sp}.driver.dxf", L.spurs, "gear11", True),
+            ("gear_9", f"{sp}.driver.dxf", L.spurs, "gear9", False),
+            ("gear_10", f"{sp}.driven.dxf", L.spurs, "idler", False),
+            ("gear_11", f"{sp}.driver.dxf", L.spurs, "gear11", False),
             ("arm", f"{n}.arm.dxf", L.arm, "arm", False),
             ("claw", f"{n}.claw.dxf", L.claw, "arm", False),
             ("soil", f"{n}.soil{OBSTACLE}", L.span, "fixed", False),
         ]
+        # mounted face down: the pairs seen from their backs (carriers module docstring)
+        return [(*spec[:4], spec[3] in carrier_making.MIRRORED) for spec in specs]
 
     #: bodies joined by a mesh, a contact, a shaft, a key or bolts (not judged against each other)
     JOINED = (

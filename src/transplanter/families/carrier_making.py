@@ -13,7 +13,7 @@ from transplanter import carrier_parts, formats, solids
 from transplanter.arm_parts import CLEARANCE_M4, TAP_DRILL_M4
 from transplanter.carriers import DoubleCarrierMachine
 
-__all__ = ["parts_to_make", "sector8_in_carrier2", "shaft_keys", "roller_z", "SHAFT_MM", "ROLLER_WIDTH_MM"]
+__all__ = ["parts_to_make", "sector8_in_carrier2", "shaft_keys", "MIRRORED", "roller_z", "SHAFT_MM", "ROLLER_WIDTH_MM"]
 
 #: the roller: a 625 deep-groove ball bearing (5 x 16 x 5 mm) on a 5 mm pin
 ROLLER_PIN_MM = 5.0
@@ -98,7 +98,8 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"shafts ({SHAFT_MM:g} mm): the idler 10 at ({lay.idler[0]:.3f}, {lay.idler[1]:.3f}), gear 11 and "
                 "the arm at Q",
                 "mates with sector 8: 2 x M4 tapped (tap drill 3.3 mm) about A_c",
-                f"timing: sector 8's bolts set it {keys['sector_8_from_carrier_2']:g} deg from sector 8's DXF frame",
+                f"timing: sector 8's DXF frame sits {keys['sector_8_frame_from_carrier_2s']:g} deg from this one's "
+                "(counter-clockwise, seen from the arm's side); its bolts set it",
                 where.format(*L.carrier2),
             ),
         ),
@@ -110,8 +111,8 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"cam follower lever (7): pivot at its origin on carrier 1, keyed with sector 7 on one shaft; "
                 f"roller pin ({ROLLER_PIN_MM:g} mm, a 625 bearing, 16 mm) at ({f.arm_length:g}, 0) mm",
                 "mates with the cam (its roller on the cam's profile) and sector 7 (keyed on one shaft)",
-                f"timing: sector 7's DXF frame is {keys['sector_7_from_lever']:g} deg from the lever's: the "
-                "shaft's keyways for the two that far apart (each part's keyway at its +y)",
+                f"timing: sector 7's keyway sits {keys['sector_7_keyway_from_the_levers']:g} deg from this one's "
+                "on the shaft (counter-clockwise, seen from the arm's side)",
                 where.format(*L.lever) + "; its roller in the cam's plane",
             ),
         ),
@@ -150,8 +151,8 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 f"transplanting arm (link 3): keyed to gear 11's shaft at Q (its origin); the claw tip at "
                 f"({l3:g}, 0) mm",
                 "mates with gear 11 (keyed on one shaft at Q) and the claw (bolted)",
-                f"timing: gear 11's DXF frame is {-keys['arm_from_gear_11']:g} deg from the arm's: the shaft's "
-                "keyways for the two that far apart (each part's keyway at its +y)",
+                f"timing: this keyway sits {keys['arm_keyway_from_gear_11s']:g} deg from gear 11's on the shaft "
+                "(counter-clockwise, seen from the arm's side; gear 11 is mounted face down)",
                 "2 x M4 tapped (tap drill 3.3 mm) for the claw",
                 where.format(*L.arm),
             ),
@@ -179,18 +180,27 @@ def sector8_in_carrier2(machine: DoubleCarrierMachine) -> float:
     return float(p["sector8"][2][0] - p["carrier2"][2][0])
 
 
+#: the members whose parts are mounted face down (their DXF mirrored about its x-axis)
+MIRRORED = ("sun", "shaft3", "gear9", "idler", "gear11")
+
+
 def shaft_keys(machine: DoubleCarrierMachine) -> dict[str, float]:
-    """How the parts on one shaft (or bolted together) turn from each other: the angle of each DXF
-    frame from its mate's at the start, deg — what a shop sets when it cuts the keyways."""
+    """How the parts on one shaft turn from each other at the start, deg counter-clockwise seen
+    from the arm's side: the angle from one part's keyway to its shaft-mate's (each part's keyway
+    is at +y of its DXF, which a part mounted face down shows at -y) — what a shop sets when it
+    cuts the shaft's keyways; and for sector 8, bolted, the angle of its DXF frame from carrier 2's."""
     p = machine.poses(np.zeros(1))
 
-    def diff(a: str, b: str) -> float:
-        return round(math.degrees(math.remainder(float(p[a][2][0] - p[b][2][0]), 2 * math.pi)), 4)
+    def key(a: str) -> float:
+        return float(p[a][2][0]) + (-0.5 if a in MIRRORED else 0.5) * math.pi
+
+    def diff(x: float) -> float:
+        return round(math.degrees(math.remainder(x, 2 * math.pi)), 4)
 
     return {
-        "gear_4_from_gear_3": diff("shaft3b", "shaft3"),
-        "gear_9_from_gear_5": diff("gear9", "shaft5"),
-        "sector_7_from_lever": diff("sector7", "follower"),
-        "arm_from_gear_11": diff("arm", "gear11"),
-        "sector_8_from_carrier_2": diff("sector8", "carrier2"),
+        "gear_4_keyway_from_gear_3s": diff(key("shaft3b") - key("shaft3")),
+        "gear_9_keyway_from_gear_5s": diff(key("gear9") - key("shaft5")),
+        "sector_7_keyway_from_the_levers": diff(key("sector7") - key("follower")),
+        "arm_keyway_from_gear_11s": diff(key("arm") - key("gear11")),
+        "sector_8_frame_from_carrier_2s": diff(float(p["sector8"][2][0] - p["carrier2"][2][0])),
     }
