@@ -1,0 +1,109 @@
+"""`transplanter pair` as a user runs it, against the time its answer's core takes, same run.
+
+Runs the README's example, ``transplanter pair "phi - 0.08*sin(2*phi)" --teeth 24 --module 1.5``,
+as a child process (wall clock and CPU, as a user waits for it), three times into fresh folders,
+and checks the three exports are byte-identical (all but the manifests, which record the folder
+their part script lies in). Then, in this process, the part of it that is the design's own answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
+:func:`transplanter.families.pair_cut.cut`, median of 5) — and where the rest of the call goes,
+from one profiled in-process run: imports, the meshing proof on the outlines and on the re-read
+DXF and STL, making the shop files (DXF, STL, 3MF), the STEP (OpenCASCADE), the plots.
+
+Goal (issue 30): the call <= 1.5 s wall on an idle 2-core machine, files unchanged.
+
+Run: python benchmarks/pair.py
+"""
+
+import cProfile
+import filecmp
+import pstats
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+EXAMPLE = ["phi - 0.08*sin(2*phi)", "--teeth", "24", "--module", "1.5"]
+#: where the profiled call's time goes: (label, the functions whose cumulative time it is)
+STAGES = (
+    ("meshing proofs (outline, DXF, STL)", ("pair_proof.py", "mesh")),
+    ("shop files made (DXF, STL, wire checks)", ("pair_assembly.py", "make")),
+    ("STEP (OpenCASCADE, written and re-read)", ("formats.py", "write_checked")),
+    ("plots (matplotlib)", ("plots.py", "figure_files")),
+    ("teeth cut", ("pair_cut.py", "cut")),
+)
+
+
+def child(out: Path) -> tuple[float, float]:
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.perf_counter()
+    subprocess.run(
+        [sys.executable, "-m", "transplanter", "pair", *EXAMPLE, "-o", str(out)], check=True, capture_output=True
+    )
+    wall = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def same(a: Path, b: Path) -> bool:
+    cmp = filecmp.dircmp(a, b)
+    if cmp.left_only or cmp.right_only:
+        return False
+    # (the manifest records where its part script lies: the folders differ by that path only)
+    return all(filecmp.cmp(a / f, b / f, shallow=False) for f in cmp.common_files if f != "manifest.json") and all(
+        same(a / d, b / d) for d in cmp.common_dirs
+    )
+
+
+def teeth_time() -> float:
+    from transplanter.families.gear_pair import pair_family
+    from transplanter.families.pair_cut import cut
+
+    study = pair_family(EXAMPLE[0], teeth=24, module=1.5).parts[0]  # the call's own pair and cutter
+    sized = study.sized
+    times = []
+    for _ in range(5):
+        start = time.perf_counter()
+        cut(
+            "pair",
+            sized,
+            tolerance=study.tolerance,
+            addendum=study.addendum,
+            shift=study.shift,
+            trim_ring_tips=study.trim_ring_tips,
+            must_mesh=study.must_mesh,
+            allow_undercut=study.allow_undercut,
+        )
+        times.append(time.perf_counter() - start)
+    return statistics.median(times)
+
+
+def main() -> None:
+    with tempfile.TemporaryDirectory() as tmp:
+        runs = [child(Path(tmp) / f"run{k}") for k in range(3)]
+        identical = all(same(Path(tmp) / "run0" / "pair", Path(tmp) / f"run{k}" / "pair") for k in (1, 2))
+        wall = statistics.median(w for w, _ in runs)
+        cpu = statistics.median(c for _, c in runs)
+        print(f"transplanter pair (README example): {wall:.2f} s wall, {cpu:.2f} s CPU (median of 3; goal 1.5 s wall)")
+        print(f"  exports byte-identical across the runs: {identical}")
+        ours = teeth_time()
+        print(f"  cutting both gears' teeth alone:   {ours * 1e3:.0f} ms  -> the call is {wall / ours:.0f}x that")
+        # where the rest goes: one profiled in-process call (imports included)
+        from transplanter import cli
+
+        prof = cProfile.Profile()
+        start = time.perf_counter()
+        prof.enable()
+        cli.main(["pair", *EXAMPLE, "-o", str(Path(tmp) / "profiled")])
+        prof.disable()
+        total = time.perf_counter() - start
+        stats = pstats.Stats(prof).stats
+        print(f"  one profiled call in this process: {total:.2f} s (profiler overhead included)")
+        for label, (module, func) in STAGES:
+            spent = sum(v[3] for (f, _, name), v in stats.items() if f.endswith(module) and name == func)
+            print(f"    {label:42s} {spent:5.2f} s")
+
+
+if __name__ == "__main__":
+    main()
