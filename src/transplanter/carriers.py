@@ -13,7 +13,9 @@ give — the two routes meet at the arm (seed 002 eqs 12-18 with ``i^8_{5,11} = 
 turn from the chain's pose 1, ``τ`` of :class:`~transplanter.linkage.open_chain.OpenChain3R`):
 
 * each gear pair by its **made meshing** (:class:`MadeMesh`): the pair's design motion plus the
-  driven gear's error the pair's proof measured on its re-read DXFs at driving-flank contact;
+  driven gear's error the pair's proof measured on its re-read DXFs at driving-flank contact (the
+  idler 10 and gear 11 are the spur pair's driven and driver gears again, their mesh posed in that
+  pair's geometry with the same table);
 * the second carrier by the follower's swing **on the re-read cam** (``follower.follower_check``);
 * each pair drawn in its DXF frames as :mod:`transplanter.pitch.pair` puts them (driver at its
   centre turning clockwise, driven on the line of centres, 180° at the start). A pair whose driver
