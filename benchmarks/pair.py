@@ -3,7 +3,8 @@
 Runs the README's example, ``transplanter pair "phi - 0.08*sin(2*phi)" --teeth 24 --module 1.5``,
 as a child process (wall clock and CPU, as a user waits for it), three times into fresh folders,
 and checks the three exports are byte-identical (all but the manifests, which record the folder
-their part script lies in). Then, in this process, the part of it that is the design's own answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
+their part script lies in). Then, in this process, the part of it that is the design's own
+answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
 :func:`transplanter.families.pair_cut.cut`, median of 5) — and where the rest of the call goes,
 from one profiled in-process run: imports, the meshing proof on the outlines and on the re-read
 DXF and STL, making the shop files (DXF, STL, 3MF), the STEP (OpenCASCADE), the plots.

@@ -86,7 +86,7 @@ def family() -> Family:
         cutter,
         SECTOR_TEETH,
         making=(Making(width=GEAR_WIDTH, features=Features(bore=GEAR_BORE), quantity=0, step=False),) * 2,
-        notes=("the teeth of sector gears 7 and 8: the shop cuts machine.sector_7.dxf and machine.sector_8.dxf",),
+        notes=("the teeth of sector gears 7 and 8: the shop cuts carriers.sector_7.dxf and carriers.sector_8.dxf",),
     )
     spur_pair = GearPair.from_driver(PitchCurve.circle(MODULE * SPUR_TEETH / 2), Mesh.EXTERNAL, 1)
     spur = Making(width=GEAR_WIDTH, features=Features(bore=GEAR_BORE))
@@ -106,6 +106,22 @@ def family() -> Family:
         making=Making(width=CAM_WIDTH, features=Features(bore=CAM_BORE)),
     )
     plate = Making(width=PLATE)
+    machine = DoubleCarrierMachineStudy(
+        "machine",
+        mechanism,
+        stage_23,
+        stage_35,
+        sectors,
+        spurs,
+        cam,
+        LAYERS,
+        CLEARANCE,
+        plate=plate,
+        lever=Making(width=6.0),
+        sector=Making(width=GEAR_WIDTH),
+        arm=plate,
+        claw=Making(width=6.0),
+    )
     return Family(
         name="potseedling_seed002",
         description="Seed 002 pot-seedling mechanism: four-pose synthesis, non-circular gear stages and swing cam",
@@ -118,21 +134,7 @@ def family() -> Family:
             sectors,
             spurs,
             cam,
-            DoubleCarrierMachineStudy(
-                "machine",
-                mechanism,
-                stage_23,
-                stage_35,
-                sectors,
-                spurs,
-                cam,
-                LAYERS,
-                CLEARANCE,
-                plate=plate,
-                lever=Making(width=6.0),
-                sector=Making(width=GEAR_WIDTH),
-                arm=plate,
-                claw=Making(width=6.0),
-            ),
+            machine.parts_study(),
+            machine,
         ),
     )

@@ -37,7 +37,7 @@ CASES = [
     ("fourbar_seed001", ("eight_row_arm", "eight_row_arm_plates")),
     ("fourbar_seed003", ("type_I", "type_I_plates")),
     ("planetary_seed004", ("machine", "optimised_train", "transplanting_train", "optimised_pitch")),
-    ("potseedling_seed002", ("machine", "swing_cam", "open_chain_3R", "stage_2_3")),
+    ("potseedling_seed002", ("carriers", "machine", "swing_cam", "open_chain_3R", "stage_2_3")),
 ]
 
 

@@ -131,6 +131,10 @@ class DoubleCarrierMachine:
     follower: OscillatingRollerFollower
     swing_at: np.ndarray = field(repr=False)
     swing: np.ndarray = field(repr=False)
+    #: the keys as cut (rad): gear 9 on gear 5's shaft (gear 5's angle less carrier 2's where the
+    #: spur pair starts) and the arm on gear 11's (the arm's angle less gear 11's); None: set where
+    #: this machine's own meshes put them at the chain's pose 1 — a made machine takes the design's
+    keys: tuple[float, float] | None = None
 
     def __post_init__(self) -> None:
         if len(self.swing_at) != len(self.swing) or len(self.swing) < 8:
@@ -214,7 +218,9 @@ class DoubleCarrierMachine:
     @cached_property
     def _gear9_zero(self) -> float:
         """Gear 5's angle less carrier 2's at the start: gear 9 is keyed to gear 5's shaft so that
-        the spur pair starts at its design start there."""
+        the spur pair starts at its design start there (or as :attr:`keys` says)."""
+        if self.keys is not None:
+            return self.keys[0]
         lay, st = self.layout, self._start
         l1 = self.chain.link_lengths[0]
         sig5 = _angle((l1 - lay.s3[0], -lay.s3[1]))
@@ -233,7 +239,10 @@ class DoubleCarrierMachine:
 
     @cached_property
     def arm_offset(self) -> float:
-        """The arm's angle less gear 11's (its key): the arm at the chain's attitude at pose 1."""
+        """The arm's angle less gear 11's (its key): the arm at the chain's attitude at pose 1 (or
+        as :attr:`keys` says)."""
+        if self.keys is not None:
+            return self.keys[1]
         a = self.angles(np.zeros(1))
         design = float(self.chain.state(np.zeros(1)).arm[0])
         return design - float(a["carrier1"][0] + a["carrier2"][0] + a["gear11"][0])
@@ -281,6 +290,11 @@ class DoubleCarrierMachine:
             "gear11": (qx, qy, c2 + a["gear11"]),
             "arm": (qx, qy, c2 + a["gear11"] + self.arm_offset),
         }
+
+    @property
+    def cut_keys(self) -> tuple[float, float]:
+        """The keys this machine sets (:attr:`keys`), to cut into a made machine's parts."""
+        return self._gear9_zero, self.arm_offset
 
     def tip(self, theta) -> np.ndarray:
         """The claw tip (the arm's frame at L3 on +x), (n, 2) mm, machine frame."""

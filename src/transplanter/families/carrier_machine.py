@@ -64,7 +64,7 @@ from transplanter.linkage.open_chain import OpenChain3R
 from transplanter.machine import MOTION_POSITIONS, Body, Judged, clearances, motion_rows, pairs_to_judge, posed
 from transplanter.precision import rounded
 
-__all__ = ["CarrierLayers", "DoubleCarrierMachineStudy", "BOUGHT", "GEARBOX_ABOVE_SOIL_MM"]
+__all__ = ["CarrierLayers", "DoubleCarrierMachineStudy", "CarrierPartsStudy", "BOUGHT", "GEARBOX_ABOVE_SOIL_MM"]
 
 #: seed 002 §2.2 requirement 7: the gearbox's lowest point at least this far above the soil, mm
 GEARBOX_ABOVE_SOIL_MM = 40.0
@@ -136,6 +136,9 @@ class DoubleCarrierMachineStudy(StudyDefaults):
     claw_at: float = 70.0
     claw_width: float = 10.0
     claw_tab: float = 20.0
+    #: the name of the part that makes the carriers, lever, sectors, arm and claw
+    #: (:meth:`parts_study`; the machine is posed and judged from its files)
+    parts: str = "carriers"
 
     def __post_init__(self) -> None:
         check_number("clearance", self.clearance, 0.0, 1000.0, unit="mm")
@@ -174,7 +177,13 @@ class DoubleCarrierMachineStudy(StudyDefaults):
 
     @property
     def uses(self) -> tuple[str, ...]:
-        return (self.stage23.name, self.stage35.name, self.sectors.name, self.spurs.name, self.cam.name)
+        return (self.stage23.name, self.stage35.name, self.sectors.name, self.spurs.name, self.cam.name, self.parts)
+
+    def parts_study(self) -> CarrierPartsStudy:
+        """The part that makes this machine's carriers, lever, sectors, arm and claw — list it in
+        the family before the machine: a change to a gear's backlash re-poses the machine without
+        making its plates again."""
+        return CarrierPartsStudy(self.parts, self)
 
     # -- the machine from the files ------------------------------------------------------------
 
@@ -189,8 +198,35 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             out[what] = MadeMesh(study.sized.pair, angle, error)
         return out
 
+    def _layout(self) -> CarrierLayout:
+        l1, l2, _ = self.chain.link_lengths
+        return CarrierLayout.solve(
+            l1,
+            l2,
+            self.stage23.sized.pair.centre_distance,
+            self.stage35.sized.pair.centre_distance,
+            self.cam.follower.pivot_distance,
+            self.sectors.sized.pair.centre_distance,
+            self.spurs.sized.pair.centre_distance,
+        )
+
+    @cached_property
+    def design(self) -> DoubleCarrierMachine:
+        """The machine as designed: the pairs' design motions, the cam's law — what the parts are
+        drawn from and their keys are cut for."""
+        theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
+        return DoubleCarrierMachine(
+            self.chain,
+            self._layout(),
+            *(MadeMesh(getattr(self, w).sized.pair) for w in ("stage23", "stage35", "sectors", "spurs")),
+            self.cam.follower,
+            theta,
+            np.asarray(self.cam.motion(theta), dtype=float),
+        )
+
     def _machine(self, files: dict[str, bytes]) -> tuple[DoubleCarrierMachine, dict]:
-        """The machine posed from the made meshes and the follower run on the re-read cam."""
+        """The machine posed from the made meshes and the follower run on the re-read cam, keyed
+        as the parts are cut (the design's keys)."""
         meshes = self._meshes(files)
         cam = f"{self.cam.name}.cam.dxf"
         if cam not in files:
@@ -198,41 +234,24 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         contour = formats.section_of(cam, files[cam])
         theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
         run = follower.follower_check(contour, self.cam.motion, self.cam.follower, MOTION_POSITIONS)
-        l1, l2, _ = self.chain.link_lengths
-        f = self.cam.follower
-        layout = CarrierLayout.solve(
-            l1,
-            l2,
-            meshes["stage23"].pair.centre_distance,
-            meshes["stage35"].pair.centre_distance,
-            f.pivot_distance,
-            meshes["sectors"].pair.centre_distance,
-            meshes["spurs"].pair.centre_distance,
-        )
         machine = DoubleCarrierMachine(
             self.chain,
-            layout,
+            self._layout(),
             meshes["stage23"],
             meshes["stage35"],
             meshes["sectors"],
             meshes["spurs"],
-            f,
+            self.cam.follower,
             theta,
             run.actual,
+            self.design.cut_keys,
         )
         return machine, {"follower_on_the_cam_dxf_max_error_mm": rounded(run.max_error, 6)}
 
-    @cached_property
-    def _swing_range(self) -> tuple[float, float]:
-        t = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
-        s = np.asarray(self.cam.motion(t), dtype=float)
-        return float(s.min()), float(s.max())
-
-    # -- the parts it makes ------------------------------------------------------------------
-
-    def _soil(self, machine: DoubleCarrierMachine) -> tuple[shapely.Polygon, float]:
+    def _soil(self) -> tuple[shapely.Polygon, float]:
+        """The soil below its surface, ``planting_depth`` above the design tip's deepest point."""
         theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
-        deepest = float(machine.tip(theta)[:, 1].min())
+        deepest = float(self.design.tip(theta)[:, 1].min())
         level = deepest + self.planting_depth
         reach = 400.0
         return shapely.box(-reach, level - 150.0, reach, level), level
@@ -240,7 +259,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
     # -- bodies and judging ---------------------------------------------------------------------
 
     def _specs(self) -> list[tuple[str, str, tuple[float, float], str, bool]]:
-        L, n = self.layers, self.name
+        L, n = self.layers, self.parts
         s23, s35, sp = self.stage23.name, self.stage35.name, self.spurs.name
         specs = [
             ("carrier_1", f"{n}.carrier_1.dxf", L.carrier1, "carrier1", False),
@@ -259,7 +278,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             ("gear_11", f"{sp}.driver.dxf", L.spurs, "gear11", False),
             ("arm", f"{n}.arm.dxf", L.arm, "arm", False),
             ("claw", f"{n}.claw.dxf", L.claw, "arm", False),
-            ("soil", f"{n}.soil{OBSTACLE}", L.span, "fixed", False),
+            ("soil", f"{self.name}.soil{OBSTACLE}", L.span, "fixed", False),
         ]
         # mounted face down: the pairs seen from their backs (carriers module docstring)
         return [(*spec[:4], spec[3] in carrier_making.MIRRORED) for spec in specs]
@@ -496,32 +515,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         machine, posed_from = self._machine(used)
         files: dict[str, bytes] = {}
         results: dict = {}
-        for part, (section, _holes, making, notes) in carrier_making.parts_to_make(self, machine, used).items():
-            res, shop, _ = manufacture(
-                f"{self.name}.{part}",
-                section,
-                shapely.Polygon(),
-                making,
-                notes,
-                lambda pt: f"({pt[0]:.1f}, {pt[1]:.1f})",
-            )
-            results[part] = res
-            files.update(shop)
-        f = self.cam.follower
-        roller = solids.circle_polygon(f.arm_length, 0.0, f.roller_radius)
-        files[f"{self.name}.roller{BOUGHT}"] = formats.DXF.write(
-            formats.MadePart(
-                f"{self.name}.roller",
-                roller,
-                None,
-                5.0,
-                (
-                    f"bought: 625 ball bearing (5 x {2 * f.roller_radius:g} x 5 mm) on the lever's pin, "
-                    "in the lever's frame",
-                ),
-            )
-        )
-        soil, level = self._soil(machine)
+        soil, level = self._soil()
         files.update(obstacle_file(self.name, "soil", soil, self.layers.span))
         judged = self._judge({**used, **files}, machine)
         record = judged["record"]
@@ -530,7 +524,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             "cam": f"{self.cam.name}.cam.dxf (the follower run on it again)",
             **posed_from,
         }
-        record["keys_deg"] = carrier_making.shaft_keys(machine)
+        record["keys_deg"] = carrier_making.shaft_keys(self.design)
         results["machine"] = record
         files.update(judged["files"])
         results["assembly"], more = start_assembly(self.name, judged["bodies"], judged["links"], {})
@@ -558,24 +552,94 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             judged["record"]["clearances"], files[f"{self.name}.machine.json"], lambda r: r["required_mm"]
         )
         problems = list(judged["problems"]) + again
+        # (the parts' STEPs are the parts study's to re-read; the machine's 3MF is this one's)
         made, more = check_shop_files(
-            files,
-            {
-                f"{self.name}.{p}": getattr(self, m).width
-                for p, m in (
-                    ("carrier_1", "plate"),
-                    ("carrier_2", "plate"),
-                    ("lever", "lever"),
-                    ("sector_7", "sector"),
-                    ("sector_8", "sector"),
-                    ("arm", "arm"),
-                    ("claw", "claw"),
-                )
-            },
-            (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if not b.dxf.endswith(OBSTACLE)]),
+            files, {}, (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if not b.dxf.endswith(OBSTACLE)])
         )
         problems += more
         return Checked({"clearances": summary, "made": made}, problems)
+
+
+@dataclass(frozen=True)
+class CarrierPartsStudy(StudyDefaults):
+    """The parts seed 002's machine makes (:mod:`~transplanter.families.carrier_making`): carrier
+    1, carrier 2, the follower lever, the sector gears 7 and 8 (trimmed from the sector pair's
+    DXFs, the one file they use), the arm and its claw — drawn from the machine as designed
+    (``machine.design``) with its keys, DXF, STL and STEP each; and the bought roller's section
+    for the judge. ``machine`` is the :class:`DoubleCarrierMachineStudy` that states them."""
+
+    cost = 5
+
+    name: str
+    machine: DoubleCarrierMachineStudy
+
+    @property
+    def uses(self) -> tuple[str, ...]:
+        return (self.machine.sectors.name,)
+
+    WIDTHS = (
+        ("carrier_1", "plate"),
+        ("carrier_2", "plate"),
+        ("lever", "lever"),
+        ("sector_7", "sector"),
+        ("sector_8", "sector"),
+        ("arm", "arm"),
+        ("claw", "claw"),
+    )
+
+    def build(self, out: Path) -> Built:
+        raise GeometryError(f"{self.name} is built from the files of {list(self.uses)} (the builder gives them)")
+
+    def build_using(self, out: Path, used: dict[str, bytes]) -> Built:
+        spec = self.machine
+        design = spec.design
+        files: dict[str, bytes] = {}
+        results: dict = {}
+        for part, (section, _holes, making, notes) in carrier_making.parts_to_make(spec, design, used).items():
+            res, shop, _ = manufacture(
+                f"{self.name}.{part}",
+                section,
+                shapely.Polygon(),
+                making,
+                notes,
+                lambda pt: f"({pt[0]:.1f}, {pt[1]:.1f})",
+            )
+            results[part] = res
+            files.update(shop)
+        f = spec.cam.follower
+        roller = solids.circle_polygon(f.arm_length, 0.0, f.roller_radius)
+        files[f"{self.name}.roller{BOUGHT}"] = formats.DXF.write(
+            formats.MadePart(
+                f"{self.name}.roller",
+                roller,
+                None,
+                5.0,
+                (
+                    f"bought: 625 ball bearing (5 x {2 * f.roller_radius:g} x 5 mm) on the lever's pin, "
+                    "in the lever's frame",
+                ),
+            )
+        )
+        lay = design.layout
+        results["keys_deg"] = carrier_making.shaft_keys(design)
+        results["shafts_mm"] = {
+            "gear_3_4_on_carrier_1": [rounded(v, 6) for v in lay.s3],
+            "follower_pivot_on_carrier_1": [rounded(v, 6) for v in lay.pivot],
+            "idler_on_carrier_2": [rounded(v, 6) for v in lay.idler],
+        }
+        params = {
+            "claw_mm": {"at": spec.claw_at, "width": spec.claw_width, "tab": spec.claw_tab},
+            "machine": spec.name,
+            "uses": list(self.uses),
+        }
+        return Built({"kind": "carrier_parts", "parameters": params, "results": results}, files)
+
+    def check(self, files: dict[str, bytes]) -> Checked:
+        """Each part's STEP against its DXF, re-read."""
+        made, problems = check_shop_files(
+            files, {f"{self.name}.{p}": getattr(self.machine, m).width for p, m in self.WIDTHS}
+        )
+        return Checked({"made": made}, problems)
 
 
 def _still(theta, angle: float):

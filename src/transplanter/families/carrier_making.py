@@ -32,8 +32,9 @@ def roller_z(layers) -> tuple[float, float]:
 
 
 def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) -> dict[str, tuple]:
-    """Each part the machine ``study`` (a ``DoubleCarrierMachineStudy``) makes, posed ``machine``,
-    from the files it ``used``: ``{part: (section, holes, making, notes)}``."""
+    """Each part of the machine ``study`` (a ``DoubleCarrierMachineStudy``) drawn from ``machine``
+    (as designed) and the sector pair's DXFs in ``used``: ``{part: (section, holes, making,
+    notes)}``."""
     lay = machine.layout
     l1, l2, l3 = study.chain.link_lengths
     f = study.cam.follower
@@ -55,7 +56,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
     lever = carrier_parts.lever(f.arm_length, shaft, 7.0)
     lever_holes = ((f.arm_length, 0.0, ROLLER_PIN_MM),)
     # the sectors: the pair's gears kept over the contacts the swing uses
-    lo, hi = study._swing_range
+    lo, hi = swing_range(study.cam.motion)
     pair = study.sectors.sized
     pitch = 2 * math.pi / int(pair.sizing.teeth[0])
     g7 = formats.section_of(f"{study.sectors.name}.driver.dxf", used[f"{study.sectors.name}.driver.dxf"])
@@ -204,3 +205,11 @@ def shaft_keys(machine: DoubleCarrierMachine) -> dict[str, float]:
         "arm_keyway_from_gear_11s": diff(key("arm") - key("gear11")),
         "sector_8_frame_from_carrier_2s": diff(float(p["sector8"][2][0] - p["carrier2"][2][0])),
     }
+
+
+def swing_range(motion) -> tuple[float, float]:
+    """The follower's swing, smallest and largest over a cam turn (rad), at the motion table's
+    positions."""
+    t = 2 * math.pi * np.arange(1440) / 1440
+    s = np.asarray(motion(t), dtype=float)
+    return float(s.min()), float(s.max())
