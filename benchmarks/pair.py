@@ -5,7 +5,7 @@ as a child process (wall clock and CPU, as a user waits for it), three times int
 and checks the three exports are byte-identical (all but the manifests, which record the folder
 their part script lies in). Then, in this process, the part of it that is the design's own
 answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
-:func:`transplanter.families.pair_cut.cut`, median of 5) — and where the rest of the call goes,
+:meth:`ToothedPairStudy.cut_teeth`, median of 5) — and where the rest of the call goes,
 from one profiled in-process run: imports, the meshing proof on the outlines and on the re-read
 DXF and STL, making the shop files (DXF, STL, 3MF), the STEP (OpenCASCADE), the plots.
 
@@ -32,7 +32,7 @@ STAGES = (
     ("shop files made (DXF, STL, wire checks)", ("pair_assembly.py", "make")),
     ("STEP (OpenCASCADE, written and re-read)", ("formats.py", "write_checked")),
     ("plots (matplotlib)", ("plots.py", "figure_files")),
-    ("teeth cut", ("pair_cut.py", "cut")),
+    ("teeth cut", ("gears.py", "cut_teeth")),
 )
 
 
@@ -59,23 +59,13 @@ def same(a: Path, b: Path) -> bool:
 
 def teeth_time() -> float:
     from transplanter.families.gear_pair import pair_family
-    from transplanter.families.pair_cut import cut
 
     study = pair_family(EXAMPLE[0], teeth=24, module=1.5).parts[0]  # the call's own pair and cutter
-    sized = study.sized
+    assert study.sized.sizing.teeth[0] == 24  # sized once, as the call does before it cuts
     times = []
     for _ in range(5):
         start = time.perf_counter()
-        cut(
-            "pair",
-            sized,
-            tolerance=study.tolerance,
-            addendum=study.addendum,
-            shift=study.shift,
-            trim_ring_tips=study.trim_ring_tips,
-            must_mesh=study.must_mesh,
-            allow_undercut=study.allow_undercut,
-        )
+        study.cut_teeth()
         times.append(time.perf_counter() - start)
     return statistics.median(times)
 

@@ -150,6 +150,20 @@ class ToothedPairStudy(StudyDefaults):
         """The circumferential backlash the pair is cut for, mm."""
         return self.sized.backlash
 
+    def cut_teeth(self):
+        """Both gears' teeth cut through the pair gate (``pair_cut.cut``): the design's own answer,
+        before anything is made or proved."""
+        return cut(
+            self.name,
+            self.sized,
+            tolerance=self.tolerance,
+            addendum=self.addendum,
+            shift=self.shift,
+            trim_ring_tips=self.trim_ring_tips,
+            must_mesh=self.must_mesh,
+            allow_undercut=self.allow_undercut,
+        )
+
     @cached_property
     def proof(self) -> PairProof:
         """The meshing proof of this pair, on whatever of its files are at hand."""
@@ -177,16 +191,7 @@ class ToothedPairStudy(StudyDefaults):
                 self.train.centre_distance,
                 f"a train on this pair (centre distance {sized.pair.centre_distance})",
             )
-        made_pair = cut(
-            self.name,
-            sized,
-            tolerance=self.tolerance,
-            addendum=self.addendum,
-            shift=self.shift,
-            trim_ring_tips=self.trim_ring_tips,
-            must_mesh=self.must_mesh,
-            allow_undercut=self.allow_undercut,
-        )
+        made_pair = self.cut_teeth()
         params = made_pair.parameters(backlash_default=self.backlash is None, must_mesh=self.must_mesh)
         results: dict = {}
         if sized.pair.ring is not None:
