@@ -99,6 +99,40 @@ def test_the_claw_passes_the_four_poses_and_the_gearbox_clears_the_soil(built):
     assert by_pair[frozenset(("gear_9", "gear_11"))]["min_mm"] > 30.0  # 9 and 11 never meet
 
 
+def test_the_joined_bodies_touch_and_never_overlap(built):
+    """Posed from the motion table, the DXF bodies read with ezdxf alone (mirrored where the record
+    says): every mesh and the roller on the cam are in contact and never overlap — the poses are
+    the made parts' own, at their driving flanks. Within the judge's 5 µm outlines: found 4-6.4 µm
+    apart at most (a mesh at the middle of its play would be ~45 µm off), overlaps under 4e-4 mm²
+    (chords of the simplified circles)."""
+    import shapely
+
+    from test_machine import _relative, _section
+
+    folder, rec = _machine(built)
+    machine = rec["results"]["machine"]
+    bodies = machine["bodies"]
+    table = np.loadtxt(folder / machine["motion"], delimiter=",", skiprows=1)
+    cols = (folder / machine["motion"]).read_text().splitlines()[0].split(",")
+    sections = {}
+    for name in ("cam", "roller", "sun", "gear_3", "gear_4", "gear_5", "sector_7", "sector_8", "gear_9", "gear_10",
+                 "gear_11"):  # fmt: skip
+        sections[name] = _section((folder / bodies[name]["dxf"]).read_bytes())
+        if bodies[name].get("mirrored"):
+            sections[name] = shapely.affinity.scale(sections[name], 1.0, -1.0, origin=(0, 0))
+
+    def pose(name, row):
+        i = cols.index(f"{name}.x_mm")
+        return [table[row, i + k] for k in range(3)]
+
+    for a, b in (("cam", "roller"), ("sun", "gear_3"), ("gear_4", "gear_5"), ("sector_7", "sector_8"),
+                 ("gear_9", "gear_10"), ("gear_10", "gear_11")):  # fmt: skip
+        for row in range(0, len(table), 60):  # every 15 deg of the driver
+            moved = _relative(sections[a], pose(a, row), pose(b, row))
+            assert shapely.distance(moved, sections[b]) < 0.015, (a, b, row)
+            assert shapely.intersection(moved, sections[b]).area < 1e-3, (a, b, row)
+
+
 def test_parts_on_one_shaft_turn_together_and_their_keys_are_stated(built):
     """From the motion table: the parts keyed on one shaft keep their angle to each other over the
     whole cycle, and the record's keyway angles are those of the parts' +y (a part mounted face
