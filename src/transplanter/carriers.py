@@ -41,6 +41,7 @@ from transplanter.errors import GeometryError, SpecError
 from transplanter.linkage.open_chain import OpenChain3R
 from transplanter.machine import Link
 from transplanter.pitch import GearPair
+from transplanter.train_rebuild import measured_error
 
 __all__ = ["MadeMesh", "CarrierLayout", "DoubleCarrierMachine", "pair_pose"]
 
@@ -63,7 +64,7 @@ class MadeMesh:
         t1 = np.asarray(t1, dtype=float)
         turn = np.asarray(self.pair.driven_rotation(t1), dtype=float)
         if len(self.angle):
-            turn = turn + np.interp(np.mod(t1, TWO_PI), self.angle, self.error, period=TWO_PI)
+            turn = turn + measured_error(self.angle, self.error, t1)
         return turn
 
 
@@ -135,6 +136,7 @@ class DoubleCarrierMachine:
     #: spur pair starts) and the arm on gear 11's (the arm's angle less gear 11's); None: set where
     #: this machine's own meshes put them at the chain's pose 1 — a made machine takes the design's
     keys: tuple[float, float] | None = None
+    _memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if len(self.swing_at) != len(self.swing) or len(self.swing) < 8:
@@ -171,27 +173,47 @@ class DoubleCarrierMachine:
     def _swing(self, theta) -> np.ndarray:
         return np.interp(np.mod(theta, TWO_PI), self.swing_at, self.swing, period=TWO_PI)
 
+    @cached_property
+    def _lines(self) -> tuple[float, float, float]:
+        """The lines of centres on carrier 1 (rad): sun → gear 3, gear 4 → gear 5, the follower's
+        sector 7 → sector 8."""
+        lay, l1 = self.layout, self.chain.link_lengths[0]
+        return (
+            _angle(lay.s3),
+            _angle((l1 - lay.s3[0], -lay.s3[1])),
+            _angle((l1 - lay.pivot[0], -lay.pivot[1])),
+        )
+
+    def _on_carrier1(self, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """The members turning on carrier 1 relative to it (rad): the sun, gears 3, 4, 5, the
+        follower lever, sector 7 and carrier 2 (sector 8 turned so that it lies at β2's smallest
+        value where the swing is 0)."""
+        sig3, sig5, sig8 = self._lines
+        t3 = self.stage23.driven(theta)  # gear 3's turn (clockwise in carrier 1)
+        sun, gear3 = pair_pose(sig3, theta, t3, mirrored=True)
+        gear4, gear5 = pair_pose(sig5, t3, self.stage35.driven(t3), mirrored=False)
+        s = self._swing(theta)
+        sector7, sector8 = pair_pose(sig8, s, self.sectors.driven(s), mirrored=False)
+        return {
+            "sun": sun,
+            "gear3": gear3,
+            "gear4": gear4,
+            "gear5": gear5,
+            "lever": _angle(self.layout.pivot) + math.pi - self._g0 - s,
+            "sector7": sector7,
+            "carrier2": sector8 - (sig8 + math.pi) + self._start["beta2_min"],
+        }
+
     def angles(self, theta) -> dict[str, np.ndarray]:
         """Each member's angle at driver angles ``theta``: carrier 1 absolute (synthesis frame);
         the sun, gears 3, 4, 5, the follower lever, sector 7, carrier 2 relative to carrier 1;
         gears 9, 10, 11 and the arm relative to carrier 2 (rad)."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        lay, st = self.layout, self._start
-        l1 = self.chain.link_lengths[0]
-        sig3 = _angle(lay.s3)
-        sig5 = _angle((l1 - lay.s3[0], -lay.s3[1]))
-        sig8 = _angle((l1 - lay.pivot[0], -lay.pivot[1]))
-        t3 = self.stage23.driven(theta)  # gear 3's turn (clockwise in carrier 1)
-        sun, gear3 = pair_pose(sig3, theta, t3, mirrored=True)
-        t5 = self.stage35.driven(t3)
-        gear4, gear5 = pair_pose(sig5, t3, t5, mirrored=False)
-        s = self._swing(theta)
-        sector7, sector8 = pair_pose(sig8, s, self.sectors.driven(s), mirrored=False)
-        # carrier 2 is sector 8 turned so that it lies at β2's smallest value where s = 0
-        carrier2 = sector8 - (sig8 + math.pi) + st["beta2_min"]
+        lay = self.layout
+        out = self._on_carrier1(theta)
         # gear 9 (on gear 5's shaft) relative to carrier 2, from its start
-        lam9 = _angle(self.layout.idler)
-        t9 = (gear5 - carrier2) - self._gear9_zero
+        lam9 = _angle(lay.idler)
+        t9 = (out["gear5"] - out["carrier2"]) - self._gear9_zero
         gear9, gear10 = pair_pose(lam9, t9, self.spurs.driven(t9), mirrored=True)
         # gear 11 drives 10 backwards in the same pair's geometry: seen from gear 11 the idler is
         # the driven gear of a pair on the line Q -> idler
@@ -200,20 +222,7 @@ class DoubleCarrierMachine:
         t10 = lam11 - math.pi - gear10  # gear 10's turn as 11's driven gear (mirrored)
         t11 = t10 - (self.spurs.driven(t10) - t10)  # ratio 1: the driver's turn less the error
         gear11, _ = pair_pose(lam11, t11, t10, mirrored=True)
-        lever = _angle(lay.pivot) + math.pi - self._g0 - s
-        return {
-            "carrier1": st["abs1"] - theta,
-            "sun": sun,
-            "gear3": gear3,
-            "gear4": gear4,
-            "gear5": gear5,
-            "lever": lever,
-            "sector7": sector7,
-            "carrier2": carrier2,
-            "gear9": gear9,
-            "gear10": gear10,
-            "gear11": gear11,
-        }
+        return {"carrier1": self._start["abs1"] - theta, **out, "gear9": gear9, "gear10": gear10, "gear11": gear11}
 
     @cached_property
     def _gear9_zero(self) -> float:
@@ -221,15 +230,8 @@ class DoubleCarrierMachine:
         the spur pair starts at its design start there (or as :attr:`keys` says)."""
         if self.keys is not None:
             return self.keys[0]
-        lay, st = self.layout, self._start
-        l1 = self.chain.link_lengths[0]
-        sig5 = _angle((l1 - lay.s3[0], -lay.s3[1]))
-        sig8 = _angle((l1 - lay.pivot[0], -lay.pivot[1]))
-        t3 = self.stage23.driven(np.zeros(1))
-        _, gear5 = pair_pose(sig5, t3, self.stage35.driven(t3), mirrored=False)
-        s = self._swing(np.zeros(1))
-        _, sector8 = pair_pose(sig8, s, self.sectors.driven(s), mirrored=False)
-        return float(gear5[0] - (sector8[0] - (sig8 + math.pi) + st["beta2_min"]))
+        start = self._on_carrier1(np.zeros(1))
+        return float(start["gear5"][0] - start["carrier2"][0])
 
     @cached_property
     def _g0(self) -> float:
@@ -256,6 +258,12 @@ class DoubleCarrierMachine:
         ``sector8``, ``idler`` (gear 10), ``gear11`` and ``arm`` (link 3's frame: origin Q, +x to
         the tip) — each a link's ``pose``."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        # each body's link asks for the same positions in turn (a clearance pair, the motion
+        # table): the last answer is kept
+        key = theta.tobytes()
+        last = self._memo.get("poses")
+        if last is not None and last[0] == key:
+            return last[1]
         a = self.angles(theta)
         lay = self.layout
         l1, l2, _ = self.chain.link_lengths
@@ -274,8 +282,8 @@ class DoubleCarrierMachine:
         px, py = at(c1, lay.pivot)
         ix, iy = at(c2, lay.idler, (ax, ay))
         qx, qy = at(c2, (l2, 0.0), (ax, ay))
-        sig8 = _angle((l1 - lay.pivot[0], -lay.pivot[1]))
-        return {
+        sig8 = self._lines[2]
+        out = {
             "carrier1": (zero, zero, c1),
             "sun": (zero, zero, c1 + a["sun"]),
             "shaft3": (sx, sy, c1 + a["gear3"]),
@@ -290,6 +298,8 @@ class DoubleCarrierMachine:
             "gear11": (qx, qy, c2 + a["gear11"]),
             "arm": (qx, qy, c2 + a["gear11"] + self.arm_offset),
         }
+        self._memo["poses"] = (key, out)
+        return out
 
     @property
     def cut_keys(self) -> tuple[float, float]:

@@ -16,7 +16,13 @@ from transplanter.meshing import MeshReport
 from transplanter.pitch import GearPair
 from transplanter.precision import significant
 
-__all__ = ["TrainReport", "meshed_train", "train_check", "turned_within_play"]
+__all__ = ["TrainReport", "measured_error", "meshed_train", "train_check", "turned_within_play"]
+
+
+def measured_error(angle, error, phi1) -> np.ndarray:
+    """The driven gear's rotation beyond its design angle at driver angles ``phi1`` (rad), from a
+    meshing measured at ``angle`` → ``error`` (rad, one driver turn), interpolated periodically."""
+    return np.interp(np.mod(phi1, 2 * math.pi), angle, error, period=2 * math.pi)
 
 
 @dataclass(frozen=True)
@@ -48,8 +54,9 @@ class _MeshedPair:
 
     def driven_contact_angle(self, phi1):
         phi1 = np.asarray(phi1, dtype=float)
-        extra = np.interp(np.mod(phi1, 2 * math.pi), self.angle, self.error, period=2 * math.pi)
-        return self.pair.driven_contact_angle(phi1) + self.pair.contact_sense * extra
+        return self.pair.driven_contact_angle(phi1) + self.pair.contact_sense * measured_error(
+            self.angle, self.error, phi1
+        )
 
 
 @dataclass(frozen=True)

@@ -41,13 +41,15 @@ from pathlib import Path
 import numpy as np
 import shapely
 
-from transplanter import follower, formats, solids
+from transplanter import follower, formats
 from transplanter.carriers import CarrierLayout, DoubleCarrierMachine, MadeMesh
 from transplanter.errors import GeometryError, SpecError, check_number
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families import carrier_making
 from transplanter.families.cams import CamStudy
+from transplanter.families.carrier_making import BOUGHT, CarrierPartsStudy
 from transplanter.families.gears import ToothedPairStudy
+from transplanter.families.machine import PHASES  # the claw's: picking between poses 1 and 2
 from transplanter.families.machine_record import (
     OBSTACLE,
     clearance_row,
@@ -57,22 +59,26 @@ from transplanter.families.machine_record import (
     read_bodies,
     start_assembly,
 )
-from transplanter.families.making import Making, check_shop_files, manufacture
+from transplanter.families.making import Making, check_shop_files
 from transplanter.families.pair_assembly import read_meshing_csv
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.linkage.open_chain import OpenChain3R
-from transplanter.machine import MOTION_POSITIONS, Body, Judged, clearances, motion_rows, pairs_to_judge, posed
+from transplanter.machine import (
+    MOTION_POSITIONS,
+    Body,
+    Judged,
+    clearances,
+    motion_rows,
+    pairs_to_judge,
+    posed,
+    work_depth,
+)
 from transplanter.precision import rounded
 
 __all__ = ["CarrierLayers", "DoubleCarrierMachineStudy", "CarrierPartsStudy", "BOUGHT", "GEARBOX_ABOVE_SOIL_MM"]
 
 #: seed 002 §2.2 requirement 7: the gearbox's lowest point at least this far above the soil, mm
 GEARBOX_ABOVE_SOIL_MM = 40.0
-#: the suffix of a bought part's section (drawn for the judge, not cut)
-BOUGHT = ".bought.dxf"
-#: the claw's phases (the paper's segments: picking between poses 1 and 2, conveying, pushing
-#: in the soil, return)
-PHASES = ("picking", "conveying", "planting", "return")
 
 
 @dataclass(frozen=True)
@@ -236,7 +242,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         run = follower.follower_check(contour, self.cam.motion, self.cam.follower, MOTION_POSITIONS)
         machine = DoubleCarrierMachine(
             self.chain,
-            self._layout(),
+            self.design.layout,
             meshes["stage23"],
             meshes["stage35"],
             meshes["sectors"],
@@ -248,13 +254,13 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         )
         return machine, {"follower_on_the_cam_dxf_max_error_mm": rounded(run.max_error, 6)}
 
-    def _soil(self) -> tuple[shapely.Polygon, float]:
+    def _soil(self) -> shapely.Polygon:
         """The soil below its surface, ``planting_depth`` above the design tip's deepest point."""
         theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
         deepest = float(self.design.tip(theta)[:, 1].min())
         level = deepest + self.planting_depth
         reach = 400.0
-        return shapely.box(-reach, level - 150.0, reach, level), level
+        return shapely.box(-reach, level - 150.0, reach, level)
 
     # -- bodies and judging ---------------------------------------------------------------------
 
@@ -341,7 +347,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         claw = next(b for b in bodies if b.name == "claw")
         soil = next(b for b in bodies if b.name == "soil")
         depth = self._claw_depth(claw, soil, links["arm"], theta)
-        tines = self.chain.link_lengths[2] - (self.claw_at - 9.0 + self.claw_tab)
+        _, tines = carrier_making.claw_span(self)
         if depth["at_most_mm"] > tines:
             problems.append(
                 f"the claw enters the soil {depth['at_most_mm']:.4g} mm from its tip, beyond its {tines:.4g} mm tines"
@@ -398,8 +404,6 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         return {"record": record, "files": out_files, "problems": problems, "bodies": bodies, "links": links}
 
     def _claw_depth(self, claw: Body, soil: Body, link, theta: np.ndarray) -> dict:
-        from transplanter.machine import work_depth
-
         l3 = self.chain.link_lengths[2]
         deepest, at, most = work_depth(claw, soil, link, theta, (l3, 0.0), (0.0, 0.0))
         return {
@@ -515,8 +519,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         machine, posed_from = self._machine(used)
         files: dict[str, bytes] = {}
         results: dict = {}
-        soil, level = self._soil()
-        files.update(obstacle_file(self.name, "soil", soil, self.layers.span))
+        files.update(obstacle_file(self.name, "soil", self._soil(), self.layers.span))
         judged = self._judge({**used, **files}, machine)
         record = judged["record"]
         record["posed_from"] = {
@@ -558,88 +561,6 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         )
         problems += more
         return Checked({"clearances": summary, "made": made}, problems)
-
-
-@dataclass(frozen=True)
-class CarrierPartsStudy(StudyDefaults):
-    """The parts seed 002's machine makes (:mod:`~transplanter.families.carrier_making`): carrier
-    1, carrier 2, the follower lever, the sector gears 7 and 8 (trimmed from the sector pair's
-    DXFs, the one file they use), the arm and its claw — drawn from the machine as designed
-    (``machine.design``) with its keys, DXF, STL and STEP each; and the bought roller's section
-    for the judge. ``machine`` is the :class:`DoubleCarrierMachineStudy` that states them."""
-
-    cost = 5
-
-    name: str
-    machine: DoubleCarrierMachineStudy
-
-    @property
-    def uses(self) -> tuple[str, ...]:
-        return (self.machine.sectors.name,)
-
-    WIDTHS = (
-        ("carrier_1", "plate"),
-        ("carrier_2", "plate"),
-        ("lever", "lever"),
-        ("sector_7", "sector"),
-        ("sector_8", "sector"),
-        ("arm", "arm"),
-        ("claw", "claw"),
-    )
-
-    def build(self, out: Path) -> Built:
-        raise GeometryError(f"{self.name} is built from the files of {list(self.uses)} (the builder gives them)")
-
-    def build_using(self, out: Path, used: dict[str, bytes]) -> Built:
-        spec = self.machine
-        design = spec.design
-        files: dict[str, bytes] = {}
-        results: dict = {}
-        for part, (section, _holes, making, notes) in carrier_making.parts_to_make(spec, design, used).items():
-            res, shop, _ = manufacture(
-                f"{self.name}.{part}",
-                section,
-                shapely.Polygon(),
-                making,
-                notes,
-                lambda pt: f"({pt[0]:.1f}, {pt[1]:.1f})",
-            )
-            results[part] = res
-            files.update(shop)
-        f = spec.cam.follower
-        roller = solids.circle_polygon(f.arm_length, 0.0, f.roller_radius)
-        files[f"{self.name}.roller{BOUGHT}"] = formats.DXF.write(
-            formats.MadePart(
-                f"{self.name}.roller",
-                roller,
-                None,
-                5.0,
-                (
-                    f"bought: 625 ball bearing (5 x {2 * f.roller_radius:g} x 5 mm) on the lever's pin, "
-                    "in the lever's frame",
-                ),
-            )
-        )
-        lay = design.layout
-        results["keys_deg"] = carrier_making.shaft_keys(design)
-        results["shafts_mm"] = {
-            "gear_3_4_on_carrier_1": [rounded(v, 6) for v in lay.s3],
-            "follower_pivot_on_carrier_1": [rounded(v, 6) for v in lay.pivot],
-            "idler_on_carrier_2": [rounded(v, 6) for v in lay.idler],
-        }
-        params = {
-            "claw_mm": {"at": spec.claw_at, "width": spec.claw_width, "tab": spec.claw_tab},
-            "machine": spec.name,
-            "uses": list(self.uses),
-        }
-        return Built({"kind": "carrier_parts", "parameters": params, "results": results}, files)
-
-    def check(self, files: dict[str, bytes]) -> Checked:
-        """Each part's STEP against its DXF, re-read."""
-        made, problems = check_shop_files(
-            files, {f"{self.name}.{p}": getattr(self.machine, m).width for p, m in self.WIDTHS}
-        )
-        return Checked({"made": made}, problems)
 
 
 def _still(theta, angle: float):

@@ -1,20 +1,42 @@
 """The parts seed 002's machine makes (:mod:`~transplanter.families.carrier_machine`), as a
 designer draws them (:mod:`transplanter.carrier_parts`), with their shafts, bolts and shop notes:
-carrier 1, carrier 2, the follower lever, the sector gears 7 and 8, the arm and its claw."""
+carrier 1, carrier 2, the follower lever, the sector gears 7 and 8, the arm and its claw — and the
+part that makes them (:class:`CarrierPartsStudy`)."""
 
 from __future__ import annotations
 
 import dataclasses
 import math
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
+import shapely
 
 from transplanter import carrier_parts, formats, solids
 from transplanter.arm_parts import CLEARANCE_M4, TAP_DRILL_M4
 from transplanter.carriers import DoubleCarrierMachine
+from transplanter.errors import GeometryError
+from transplanter.families.making import check_shop_files, manufacture
+from transplanter.families.study import Built, Checked, StudyDefaults
+from transplanter.machine import MOTION_POSITIONS
+from transplanter.precision import rounded
 
-__all__ = ["parts_to_make", "sector8_in_carrier2", "shaft_keys", "MIRRORED", "roller_z", "SHAFT_MM", "ROLLER_WIDTH_MM"]
+__all__ = [
+    "CarrierPartsStudy",
+    "BOUGHT",
+    "parts_to_make",
+    "claw_span",
+    "sector8_in_carrier2",
+    "shaft_keys",
+    "MIRRORED",
+    "roller_z",
+    "SHAFT_MM",
+    "ROLLER_WIDTH_MM",
+]
 
+#: the suffix of a bought part's section (drawn for the judge, not cut)
+BOUGHT = ".bought.dxf"
 #: the roller: a 625 deep-groove ball bearing (5 x 16 x 5 mm) on a 5 mm pin
 ROLLER_PIN_MM = 5.0
 ROLLER_WIDTH_MM = 5.0
@@ -23,6 +45,19 @@ SHAFT_MM = 12.0
 FRAME_SHAFT_MM = 30.0
 #: sector 8's two bolts to carrier 2 sit on this radius about A_c (the hubs are 20 mm), mm
 BOLT_CIRCLE_MM = 13.0
+
+
+#: the arm's hub at Q and its boss where the claw is bolted, radii (mm)
+ARM_HUB_MM, ARM_BOSS_MM = 16.0, 9.0
+#: the claw's bolts sit this far inside its tab's ends, mm
+CLAW_BOLT_INSET_MM = 5.0
+
+
+def claw_span(study) -> tuple[float, float]:
+    """Where the claw starts on the arm (its tab's end under the arm's boss) and how long its
+    free tines are to the tip, mm, for the machine ``study``."""
+    start = study.claw_at - ARM_BOSS_MM
+    return start, study.chain.link_lengths[2] - (start + study.claw_tab)
 
 
 def roller_z(layers) -> tuple[float, float]:
@@ -64,13 +99,13 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
     s7 = carrier_parts.sector(g7, lo, hi, pitch, 20.0)
     s8 = carrier_parts.sector(g8, -hi, -lo, pitch, 20.0)
     # sector 8's bolts where carrier 2's tapped holes are (carrier 2's frame -> sector 8's)
-    turn = -(sector8_in_carrier2(machine))
+    turn = -sector8_in_carrier2(machine)
     c, s = math.cos(turn), math.sin(turn)
     s8_holes = tuple((c * x - s * y, s * x + c * y, CLEARANCE_M4) for x, y in bolts)
-    arm = carrier_parts.arm(l3, 16.0, 9.0, study.claw_at)
-    claw = carrier_parts.claw(l3, study.claw_at - 9.0, study.claw_width, study.claw_tab)
-    claw_bolts = ((study.claw_at - 9.0 + 5.0, 0.0), (study.claw_at - 9.0 + study.claw_tab - 5.0, 0.0))
-    tines = l3 - (study.claw_at - 9.0 + study.claw_tab)
+    arm = carrier_parts.arm(l3, ARM_HUB_MM, ARM_BOSS_MM, study.claw_at)
+    start, tines = claw_span(study)
+    claw = carrier_parts.claw(l3, start, study.claw_width, study.claw_tab)
+    claw_bolts = ((start + CLAW_BOLT_INSET_MM, 0.0), (start + study.claw_tab - CLAW_BOLT_INSET_MM, 0.0))
     where = "layer z {:g}..{:g} mm from the cam's back face"
     keys = shaft_keys(machine)
     return {
@@ -203,13 +238,97 @@ def shaft_keys(machine: DoubleCarrierMachine) -> dict[str, float]:
         "gear_9_keyway_from_gear_5s": diff(key("gear9") - key("shaft5")),
         "sector_7_keyway_from_the_levers": diff(key("sector7") - key("follower")),
         "arm_keyway_from_gear_11s": diff(key("arm") - key("gear11")),
-        "sector_8_frame_from_carrier_2s": diff(float(p["sector8"][2][0] - p["carrier2"][2][0])),
+        "sector_8_frame_from_carrier_2s": diff(sector8_in_carrier2(machine)),
     }
 
 
 def swing_range(motion) -> tuple[float, float]:
     """The follower's swing, smallest and largest over a cam turn (rad), at the motion table's
     positions."""
-    t = 2 * math.pi * np.arange(1440) / 1440
+    t = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
     s = np.asarray(motion(t), dtype=float)
     return float(s.min()), float(s.max())
+
+
+@dataclass(frozen=True)
+class CarrierPartsStudy(StudyDefaults):
+    """The parts seed 002's machine makes (this module's :func:`parts_to_make`): carrier
+    1, carrier 2, the follower lever, the sector gears 7 and 8 (trimmed from the sector pair's
+    DXFs, the one file they use), the arm and its claw — drawn from the machine as designed
+    (``machine.design``) with its keys, DXF, STL and STEP each; and the bought roller's section
+    for the judge. ``machine`` is the :class:`DoubleCarrierMachineStudy` that states them."""
+
+    cost = 5
+
+    name: str
+    #: the ``carrier_machine.DoubleCarrierMachineStudy`` that states the parts (it makes this
+    #: study: ``parts_study()``; not imported here, the machine module imports this one)
+    machine: StudyDefaults
+
+    @property
+    def uses(self) -> tuple[str, ...]:
+        return (self.machine.sectors.name,)
+
+    WIDTHS = (
+        ("carrier_1", "plate"),
+        ("carrier_2", "plate"),
+        ("lever", "lever"),
+        ("sector_7", "sector"),
+        ("sector_8", "sector"),
+        ("arm", "arm"),
+        ("claw", "claw"),
+    )
+
+    def build(self, out: Path) -> Built:
+        raise GeometryError(f"{self.name} is built from the files of {list(self.uses)} (the builder gives them)")
+
+    def build_using(self, out: Path, used: dict[str, bytes]) -> Built:
+        spec = self.machine
+        design = spec.design
+        files: dict[str, bytes] = {}
+        results: dict = {}
+        for part, (section, _holes, making, notes) in parts_to_make(spec, design, used).items():
+            res, shop, _ = manufacture(
+                f"{self.name}.{part}",
+                section,
+                shapely.Polygon(),
+                making,
+                notes,
+                lambda pt: f"({pt[0]:.1f}, {pt[1]:.1f})",
+            )
+            results[part] = res
+            files.update(shop)
+        f = spec.cam.follower
+        roller = solids.circle_polygon(f.arm_length, 0.0, f.roller_radius)
+        files[f"{self.name}.roller{BOUGHT}"] = formats.DXF.write(
+            formats.MadePart(
+                f"{self.name}.roller",
+                roller,
+                None,
+                5.0,
+                (
+                    f"bought: 625 ball bearing (5 x {2 * f.roller_radius:g} x 5 mm) on the lever's pin, "
+                    "in the lever's frame",
+                ),
+            )
+        )
+        lay = design.layout
+        results["keys_deg"] = shaft_keys(design)
+        results["shafts_mm"] = {
+            "gear_3_4_on_carrier_1": [rounded(v, 6) for v in lay.s3],
+            "follower_pivot_on_carrier_1": [rounded(v, 6) for v in lay.pivot],
+            "idler_on_carrier_2": [rounded(v, 6) for v in lay.idler],
+        }
+        params = {
+            "claw_mm": {"at": spec.claw_at, "width": spec.claw_width, "tab": spec.claw_tab},
+            "machine": spec.name,
+            "uses": list(self.uses),
+        }
+        return Built({"kind": "carrier_parts", "parameters": params, "results": results}, files)
+
+    def check(self, files: dict[str, bytes]) -> Checked:
+        """Each part's STEP against its DXF, re-read."""
+        made, problems = check_shop_files(
+            files, {f"{self.name}.{p}": getattr(self.machine, m).width for p, m in self.WIDTHS}
+        )
+        return Checked({"made": made}, problems)
