@@ -19,22 +19,24 @@ Two designs, both from ``_seed004.py`` (the paper's data, our reading of it, the
 import math
 
 from _seed004 import (
-    OPTIMUM,
+    MARGINS_UNDER_PLAY,
     PLANET_BORE,
     PLANT_SPACING,
     PLANTING_DEPTH,
     PUBLISHED,
     PUBLISHED_MODULE,
+    RING_ADDENDUM_MIN,
     SEEDLING_BOX,
     SITE,
     VARIANTS,
     design_train,
-    scaled,
+    front_design,
+    front_points,
+    made_design,
     train,
 )
 
 from transplanter.cutter import ShaperCutter
-from transplanter.cutter_choice import coarsest_cut
 from transplanter.families import (
     Family,
     Layers,
@@ -61,17 +63,16 @@ PLANET_SHAFT = 5.0  # mm: the planet's pitch curve passes 3.84 mm from its axis,
 
 # -- the optimised train -----------------------------------------------------------------
 WIDTH = 12.0  # mm, face width of ring, planets and carrier
-MODULE_RANGE = (2.0, 6.0)  # mm, searched for the coarsest module that cuts and meshes
 RING_BOLTS = 8  # M3 clearance holes in the middle of the ring's rim, half a pitch off the +x timing notch
 BOLT_HOLE = 3.4  # mm
 CARRIER_BORE = 20.0  # mm, carrier shaft with a DIN 6885 key
 CARRIER_MARGIN = 12.0  # mm of plate beyond the planet-shaft holes
-SWEEP = (0.6, 0.8, 1.1, 1.2)  # ratio-variation factors for the trade-off plot
 # Planet tips shortened from the screen's 1.0 m: at 1.0 m a planet tip passes the ring 12.4 µm
 # away at mid-play (driver 258°, 2-3 pitches from the pitch point), under the 14.3 µm half
 # tolerance budget; at 0.94 m the smallest mid-play clearance is 18.6 µm and the smallest
 # free play 0.097 mm (was 0.074 mm), contact ratio 1.28 (was 1.29).
 PLANET_ADDENDUM = 0.94  # modules
+BACKLASH = 0.193  # mm, cut for (None: the ISO/TR 10064-2 minimum)
 
 # -- the machine ---------------------------------------------------------------------------
 # Planes across the machine, mm from the ring's back face: the ring and planets, the carrier
@@ -130,9 +131,12 @@ def published_parts(published) -> tuple:
 
 def made_parts(published) -> tuple:
     """The optimised train at the coarsest module that cuts and meshes: ring, planets, carrier."""
-    optimised = design_train(OPTIMUM)
+    # the front's coarsest design with ring tips >= 0.6 m, a mean contact ratio >= 1.4 and every
+    # objective met — or, where the front has none, OPTIMUM as cut before issue 27 (_seed004)
+    made, cut = made_design()
+    optimised = design_train(made)
     pair = optimised.pair
-    cut = coarsest_cut(pair, max_module=MODULE_RANGE[1], min_module=MODULE_RANGE[0])
+    best, best_module = front_design(2.5)  # the best the search found with 0.6 m ring tips
     planet_shafts = Features.bolt_circle(3, pair.centre_distance, PLANET_BORE, bore=CARRIER_BORE)
     gears = ToothedPairStudy(
         "optimised_ring_planet",
@@ -145,7 +149,9 @@ def made_parts(published) -> tuple:
         ),
         addendum=(cut.ring_addendum, min(cut.pinion_addendum, PLANET_ADDENDUM)),
         trim_ring_tips=False,
-        train=TrainProof(optimised, SITE),
+        backlash=BACKLASH,
+        min_backlash="iso",  # the ISO/TR 10064-2 minimum at every position, the dips included
+        train=TrainProof(optimised, SITE, keep=tuple(MARGINS_UNDER_PLAY.items())),
     )
     return (
         PitchPairStudy("optimised_pitch", pair, teeth=cut.teeth[0]),  # ν, curvature, convexity
@@ -159,13 +165,17 @@ def made_parts(published) -> tuple:
             reference=PUBLISHED + (("module", PUBLISHED_MODULE, "mm"),),
             site=SITE,
             module=cut.module,
-            compare=(("published reading", published, 0.0),),
+            compare=(
+                ("published reading", published, 0.0),
+                ("best with 0.6 m ring tips, m >= 2.5", design_train(best), best_module),
+            ),
             must_meet=True,
             carrier=(
                 pair.centre_distance + PLANET_BORE / 2 + CARRIER_MARGIN,
                 Making(width=WIDTH, features=planet_shafts),
             ),
-            tradeoff=tuple((f"ratio variation x{f:g}", design_train(scaled(OPTIMUM, f))) for f in SWEEP),
+            front=front_points(made, cut.module),  # module against the smallest objective margin
+            min_ring_addendum=RING_ADDENDUM_MIN,
         ),
         # the whole machine, posed from the gears' and the carrier's files: the arms as parts
         PlanetaryMachineStudy(

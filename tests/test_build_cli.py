@@ -10,7 +10,7 @@ import pytest
 import shapely
 
 from transplanter import cli
-from transplanter.errors import ExportError, PartScriptError
+from transplanter.errors import ExportError, PartScriptError, SpecError
 from transplanter.export import atomic_write
 from transplanter.families import build_family, discover, load_family
 from transplanter.testing import admesh_available, assert_admesh_clean
@@ -533,6 +533,49 @@ def test_the_optimiser_records_its_optimum_where_the_script_reads_it(tmp_path, c
     script.write_text(OPTIMISED.replace(', optimum="OPTIMUM"', ""))
     assert cli.main([*args, "--write"]) == 2
     assert "names no place: give Problem(..., optimum='OPTIMUM')" in capsys.readouterr().err
+
+
+SET_PROBLEM = """
+from transplanter.optimise import Problem
+
+BEST_1 = (0.0, 0.0)
+START = (0.9, 0.9)
+
+
+def problem(target=0.0):
+    return Problem(
+        f"bowl at {target:g}", (("x", -1.0, 2.0), ("y", -1.0, 2.0)), lambda v: (v[0] - target) ** 2 + v[1] ** 2,
+        optimum=f"BEST_{round(target)}", x0=START, spread=0.05,
+    )
+"""
+
+
+def test_set_passes_numbers_to_problem_and_spread_seeds_around_x0(tmp_path, capsys):
+    """``--set NAME=VALUE`` reaches the script's problem() (a Pareto point per least module, issue
+    27: ``--set min_module=2.5``) and --write records where that problem says; half the first
+    population is drawn around x0 (``Problem.spread``), the rest uniform, reproducibly."""
+    import numpy as np
+
+    from transplanter.optimise import Problem, _initial
+
+    script = tmp_path / "design.py"
+    script.write_text(SET_PROBLEM)
+    args = ["optimise", str(script), "--seed", "1", "--maxiter", "30", "--popsize", "8", "--set", "target=1"]
+    assert cli.main([*args, "--write"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["problem"] == "bowl at 1" and abs(result["parameters"]["x"] - 1.0) < 0.05
+    assert "BEST_1 = (\n" in script.read_text()
+    for bad, said in (("target", "NAME=NUMBER"), ("target=abc", "a number"), ("size=2", "does not take it")):
+        assert cli.main(["optimise", str(script), "--maxiter", "1", "--set", bad]) == 2
+        assert said in capsys.readouterr().err
+    p = Problem("p", (("x", 0.0, 10.0), ("c", 0.0, 2.999)), lambda v: 0.0, x0=(5.0, 1.5), spread=0.02, choices=("c",))
+    first = _initial(p, 3, 10)
+    assert first.shape == (20, 2) and list(first[0]) == [5.0, 1.5]
+    assert np.all(np.abs(first[:10, 0] - 5.0) < 1.0) and np.all(first[:10, 1] == 1.5)  # around x0, choice kept
+    assert np.ptp(first[10:, 0]) > 3.0  # the rest spread over the range
+    assert np.array_equal(first, _initial(p, 3, 10))
+    with pytest.raises(SpecError, match="give x0"):
+        Problem("p", (("x", 0.0, 1.0),), lambda v: 0.0, spread=0.1)
 
 
 PLATE_KIND = """

@@ -327,3 +327,31 @@ def test_a_metrics_table_is_one_table_with_its_units_in_their_own_column(built):
     parts = page.count("<h2>")
     assert page.count("<table>") <= 8 * parts and "<td class='u'>m/s²</td>" in page and "m/s^2" not in page
     assert not re.search(r"e-0[6-9]<", page) and "<details><summary><b>parameters</b></summary>" in page
+
+
+def test_a_backlash_floor_is_held_at_every_position_and_names_its_remedy(tmp_path):
+    """``min_backlash``: the smallest free play anywhere over the cycle must reach the floor; a pair
+    cut for less is refused with the backlash to cut it for, and cut for that it passes."""
+    pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.1, 2), "external", 2).sized(module=2.0)
+
+    def study(**kw):
+        return ToothedPairStudy("floor", pair, ShaperCutter(12, 2.0), sizing.teeth[0], mesh_steps=24, **kw)
+
+    iso = study().proof.backlash
+    held = study(min_backlash="iso")
+    assert held.proof.min_backlash == pytest.approx(iso) and held.proof.band[0] == pytest.approx(iso)
+    record, _ = held.build(tmp_path)  # this pair's free play never dips under what it is cut for
+    low = record["results"]["meshing"]["outline"]["backlash_mm"][0]
+    assert low >= iso and record["results"]["meshing"]["outline"]["problems"] == []
+    floor = round(low + 0.02, 4)  # a floor 20 µm over its smallest free play
+    with pytest.raises(GeometryError, match="this pair must keep at every position") as refused:
+        study(min_backlash=floor).build(tmp_path)
+    said = str(refused.value)
+    assert f"below the {floor * 1e3:.1f} µm this pair must keep at every position" in said
+    need = float(said.split("backlash of at least ")[1].split(" mm")[0])
+    assert need == pytest.approx(iso + floor - low, abs=1.5e-3)
+    record, _ = study(min_backlash=floor, backlash=need).build(tmp_path)
+    assert record["results"]["meshing"]["outline"]["problems"] == []
+    assert record["results"]["meshing"]["outline"]["backlash_mm"][0] >= floor
+    with pytest.raises(SpecError, match="min_backlash"):
+        study(min_backlash=-0.1)

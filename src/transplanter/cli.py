@@ -24,12 +24,13 @@ shop files, meshing proof on them, report (:mod:`transplanter.families.gear_pair
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import sys
 from pathlib import Path
 
 from transplanter import __version__, inputs
-from transplanter.errors import ExportError, TransplanterError
+from transplanter.errors import ExportError, SpecError, TransplanterError
 
 __all__ = ["main"]
 
@@ -111,7 +112,24 @@ def _cmd_analyse(args: argparse.Namespace) -> int:
     return 0
 
 
+def _settings(pairs: list[str]) -> dict[str, float]:
+    """``--set NAME=VALUE`` options as keyword arguments (numbers) for a script's problem()."""
+    out = {}
+    for pair in pairs:
+        name, sep, value = pair.partition("=")
+        if not sep or not name.isidentifier():
+            raise SpecError.out_of_range("--set", pair, "NAME=NUMBER, NAME a Python name")
+        try:
+            out[name] = float(value)
+        except ValueError:
+            raise SpecError.out_of_range(f"--set {name}", value, "a number") from None
+        if not math.isfinite(out[name]):
+            raise SpecError.out_of_range(f"--set {name}", value, "a finite number")
+    return out
+
+
 def _cmd_optimise(args: argparse.Namespace) -> int:
+    import inspect
     import json
     import time
 
@@ -128,7 +146,12 @@ def _cmd_optimise(args: argparse.Namespace) -> int:
             f"{path}: an optimisable script (a part script or a design module beside one) must define "
             "problem() returning an optimise.Problem"
         )
-    problem = fn()
+    settings = _settings(args.set or [])
+    try:
+        inspect.signature(fn).bind(**settings)
+    except TypeError as exc:
+        raise SpecError(f"--set {', '.join(settings)}: {path}'s problem() does not take it ({exc})") from None
+    problem = fn(**settings)
     if not isinstance(problem, Problem):
         raise PartScriptError(f"{path}: problem() returned {type(problem).__name__}, expected optimise.Problem")
 
@@ -408,6 +431,12 @@ def _main(argv: list[str] | None = None) -> int:
     o.add_argument("--popsize", type=int, default=15, help="population size per variable")
     o.add_argument("--workers", type=int, default=1, help="evaluate candidates on N local processes (dask)")
     o.add_argument("--scheduler", metavar="ADDRESS", help="evaluate candidates on this Dask cluster (tcp://host:port)")
+    o.add_argument(
+        "--set",
+        action="append",
+        metavar="NAME=VALUE",
+        help="a number passed to the script's problem() as a keyword (e.g. --set min_module=3)",
+    )
     o.add_argument(
         "--write",
         action="store_true",

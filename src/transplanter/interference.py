@@ -444,6 +444,7 @@ def screen_module(
     window: float = SCREEN_WINDOW_PITCHES,
     pinion_addenda: tuple[float, ...] = (1.0, 0.8),
     min_ring_addendum: float = 0.3,
+    min_contact_ratio: float = MIN_CONTACT_RATIO,
 ) -> ScreenResult | None:
     """The largest module (coarsest whole tooth count) at which an internal ``pair`` is expected
     to mesh: the fast fouling screen of a design search (numpy only, a few ms).
@@ -451,7 +452,8 @@ def screen_module(
     From the coarsest tooth count down, for each cutter in ``cutters`` (tooth counts) and each
     pinion addendum in ``pinion_addenda`` (full, then stub): the ring's tips are trimmed to the
     fillet/cutter limit (at most a full addendum, at least ``min_ring_addendum`` — the least
-    ``pair_gate.generate_pair`` trims to), then the limits of :func:`internal_limits` must hold with each curve's
+    ``pair_gate.generate_pair`` trims to), then the limits of :func:`internal_limits` (a contact
+    ratio of at least ``min_contact_ratio`` among them) must hold with each curve's
     radius of curvature taken as the *smallest* within ``window`` pitches of the contact — so a
     curvature that changes fast, which fouls a few pitches away from the contact, counts — and
     the cutter must roll inside the ring's sharpest convex corner. The pinion's pitch curve must
@@ -479,7 +481,7 @@ def screen_module(
             if ring_add < min_ring_addendum:
                 continue
             lim = _windowed_limits(rolled, cutter, ring_add, pinion_addendum, window)
-            if lim.problems(trochoid=False):
+            if lim.problems(trochoid=False, min_contact_ratio=min_contact_ratio):
                 continue
             return ScreenResult(
                 m,

@@ -142,6 +142,12 @@ def back_over_plant(tip: np.ndarray, soil_level: float, velocity: float, period:
     track is followed from the push (the lowest point) for one cycle, its time counted from the
     push — so a push late in the sampled cycle is judged as one early in it (the time of a cycle
     that wraps past its end is unwrapped, not set back by a period).
+
+    The side the tip retreats to is where it is, on the ground, when it reaches the seedling's
+    height (or at the end of the cycle if it never does); "back over the plant" is how far it
+    comes to the other side of the plant before that. (Taking the side from the first sample out
+    of the soil — right above the hole, a few tenths of a mm either side — made the figure jump
+    between 0 and tens of mm for a 0.3 mm change of the carrier radius.)
     """
     n = len(tip)
     low = int(np.argmin(tip[:, 1]))
@@ -151,9 +157,13 @@ def back_over_plant(tip: np.ndarray, soil_level: float, velocity: float, period:
     if below.all():
         return 0.0
     after = np.arange(int(np.flatnonzero(~below)[0]), n)
-    rising = after[: int(np.argmax(path[after, 1] > soil_level + SEEDLING_HEIGHT_MM))]
-    exit_side = np.sign(ground_x[after[0]] - ground_x[0])
-    return float(np.max(np.maximum(0.0, -exit_side * (ground_x[rising] - ground_x[0])), initial=0.0))
+    high = np.flatnonzero(path[after, 1] > soil_level + SEEDLING_HEIGHT_MM)
+    rising = after[: int(high[0])] if len(high) else after
+    if len(rising) == 0:
+        return 0.0
+    retreat = after[int(high[0])] if len(high) else after[-1]
+    side = np.sign(ground_x[retreat] - ground_x[0]) or 1.0
+    return float(np.max(np.maximum(0.0, -side * (ground_x[rising] - ground_x[0])), initial=0.0))
 
 
 def box_depth(points: np.ndarray, site: Site) -> np.ndarray:

@@ -56,6 +56,10 @@ class Problem:
     #: the module-level name of the design vector in the file that defines ``problem()``
     #: (``OPTIMUM``): ``transplanter optimise --write`` records the optimum there
     optimum: str | None = None
+    #: with ``x0``: half the initial population is drawn around it (normal, this fraction of each
+    #: variable's range as the standard deviation; choices kept as ``x0``'s), half uniformly — a
+    #: search that refines a known design without losing sight of the whole range (0: Latin hypercube)
+    spread: float = 0.0
 
     def __post_init__(self) -> None:
         if not self.variables:
@@ -66,6 +70,10 @@ class Problem:
         unknown = set(self.choices) - {name for name, _, _ in self.variables}
         if unknown:
             raise SpecError(f"problem {self.name!r}: choices {sorted(unknown)} are not variables")
+        if not (isinstance(self.spread, int | float) and 0.0 <= self.spread <= 1.0):
+            raise SpecError.out_of_range("spread", self.spread, "a fraction of each range, 0..1")
+        if self.spread and self.x0 is None:
+            raise SpecError(f"problem {self.name!r}: spread draws the population around x0; give x0")
         if self.optimum is not None and not (isinstance(self.optimum, str) and self.optimum.isidentifier()):
             raise SpecError.out_of_range("optimum", self.optimum, "a Python name (the design vector's variable)")
 
@@ -156,6 +164,24 @@ def _cost_errors():
         raise
 
 
+def _initial(problem: Problem, seed: int, popsize: int):
+    """scipy's ``init``: its Latin hypercube, or with ``problem.spread`` half the population around
+    ``problem.x0`` (the first member x0 itself) and half uniform, drawn reproducibly from ``seed``."""
+    if not problem.spread or problem.x0 is None:
+        return "latinhypercube"
+    lo = np.array([v[1] for v in problem.variables])
+    hi = np.array([v[2] for v in problem.variables])
+    x0 = np.clip(np.asarray(problem.x0, dtype=float), lo, hi)
+    rng = np.random.default_rng(seed)
+    n = max(5, popsize * len(lo))
+    near = np.clip(x0 + rng.normal(0.0, problem.spread, (n // 2, len(lo))) * (hi - lo), lo, hi)
+    for k, (name, _, _) in enumerate(problem.variables):
+        if name in problem.choices:
+            near[:, k] = x0[k]
+    near[0] = x0
+    return np.vstack([near, lo + rng.random((n - n // 2, len(lo))) * (hi - lo)])
+
+
 def optimise(
     problem: Problem,
     seed: int = 0,
@@ -182,6 +208,7 @@ def optimise(
         raise SpecError(f"scheduler must be an address like 'tcp://host:8786', got {scheduler!r}")
     history: list[float] = []
     start = time.perf_counter()
+    init, first = _initial(problem, seed, popsize), x0 if x0 is not None else problem.x0
 
     def callback(intermediate_result) -> None:
         history.append(float(intermediate_result.fun))
@@ -198,7 +225,8 @@ def optimise(
             tol=tol,
             polish=False,
             callback=callback,
-            x0=x0 if x0 is not None else (np.asarray(problem.x0) if problem.x0 is not None else None),
+            init=init,
+            x0=None if first is None or not isinstance(init, str) else np.asarray(first, dtype=float),
             updating=(updating or "immediate") if evaluate == 1 else "deferred",
             workers=evaluate,
         )

@@ -16,12 +16,7 @@ import numpy as np
 import shapely
 
 from transplanter.linkage.planting import PlantingArm, PlantingMetrics
-from transplanter.objectives import (
-    ANGLE_DIFFERENCE_DEG,
-    GEARBOX_CLEARANCE_MM,
-    HOLE_WIDTH_MAX_MM,
-    MIN_MODULE_MM,
-)
+from transplanter.objectives import MIN_MODULE_MM
 
 
 @functools.cache
@@ -425,31 +420,38 @@ def follower_figure(reports: dict, title: str) -> plt.Figure:
     return fig
 
 
-def tradeoff_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
-    """Largest meshing module against the angle difference, the hole width and the gearbox
-    clearance over a family of designs (``rows``: dicts with ``module_mm``,
-    ``angle_difference_deg``, ``hole_width_mm``, ``gearbox_clearance_mm``, ``label``, ``chosen``)."""
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2), sharey=True)
-    module = np.array([r["module_mm"] for r in rows])
-    chosen = [r["chosen"] for r in rows]
-    for ax, key, unit, band, what in (
-        (axes[0], "angle_difference_deg", "deg", ANGLE_DIFFERENCE_DEG, "picking - pushing angle"),
-        (axes[1], "hole_width_mm", "mm", (0.0, HOLE_WIDTH_MAX_MM), "hole width"),
-        (axes[2], "gearbox_clearance_mm", "mm", (GEARBOX_CLEARANCE_MM, None), "gearbox clearance above the ground"),
-    ):
-        x = np.array([r[key] for r in rows])
-        order = np.argsort(x)
-        ax.plot(x[order], module[order], "o-", color="C0", ms=4, lw=1)
-        k = chosen.index(True)
-        ax.plot(x[k], module[k], "r*", ms=14, label="optimised design")
-        lo, hi = band
-        ax.axvspan(lo, hi if hi is not None else max(x.max(), lo) * 1.05, color="C2", alpha=0.12, label="objective")
-        ax.set_xlabel(f"{what} ({unit})")
-        ax.grid(alpha=0.3)
-    axes[0].axhline(MIN_MODULE_MM, color="C3", ls="--", lw=1, label=f"module objective xi ({MIN_MODULE_MM:g} mm)")
-    axes[0].set_ylabel("largest meshing module (mm)")
-    axes[0].legend(fontsize=7, loc="best")
-    fig.suptitle(f"{title}: largest module that meshes and can be cut, ratio variation scaled", fontsize=9)
-    fig.text(0.01, 0.01, "\n".join(textwrap.wrap(binding, 190)), fontsize=7, va="bottom")
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
+def front_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
+    """The Pareto front of a design problem: module against the smallest objective margin
+    (``rows``: dicts with ``module_mm``, ``smallest_margin``, ``binding_objective``, ``label``,
+    ``chosen``, ``feasible``, ``pareto``); the non-dominated designs joined, designs that miss an
+    objective crossed, the design made starred."""
+    fig, ax = plt.subplots(figsize=(8.5, 5.0))
+    margin = np.array([r["smallest_margin"] for r in rows], dtype=float)
+    module = np.array([r["module_mm"] for r in rows], dtype=float)
+    best = np.array([r["pareto"] for r in rows], dtype=bool)
+    chosen = np.array([r["chosen"] for r in rows], dtype=bool)
+    feasible = np.array([r["feasible"] for r in rows], dtype=bool)
+    rest = ~best & feasible
+    if rest.any():
+        ax.plot(margin[rest], module[rest], "o", color="0.6", ms=5, label="dominated")
+    missed = ~feasible
+    if missed.any():
+        ax.plot(margin[missed], module[missed], "x", color="C3", ms=7, label="best found misses an objective")
+    order = np.argsort(margin[best])
+    ax.plot(margin[best][order], module[best][order], "o-", color="C0", ms=6, lw=1.2, label="Pareto front")
+    for r, x, y in zip(rows, margin, module, strict=True):
+        ax.annotate(
+            f"{r['label']}\n{r['binding_objective']}", (x, y), fontsize=6, xytext=(4, 4), textcoords="offset points"
+        )
+    if chosen.any():
+        ax.plot(margin[chosen], module[chosen], "r*", ms=15, label="the design made")
+    ax.axvline(0.0, color="C3", ls="--", lw=1, label="every objective keeps its margin under play")
+    ax.axhline(MIN_MODULE_MM, color="C2", ls=":", lw=1, label=f"module objective xi ({MIN_MODULE_MM:g} mm)")
+    ax.set_xlabel("smallest objective margin beyond what it must keep under play (mm or deg)")
+    ax.set_ylabel("module the teeth can be cut at (mm)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(f"{title}: module against the smallest objective margin", fontsize=9)
+    fig.text(0.01, 0.01, "\n".join(textwrap.wrap(binding, 150)), fontsize=7, va="bottom")
+    fig.tight_layout(rect=(0, 0.08, 1, 1))
     return fig

@@ -211,19 +211,27 @@ def _cuts(outer, inner, inner_ring, others, count: int) -> list[tuple[int, int]]
     from a vertex of the largest hole ``inner`` (bulge vertices; ``inner_ring`` its points) to the
     vertex of the outline ``outer`` nearest its angle, inside the section (arcs flattened to 1 µm)
     and 0.05 mm clear of every other hole (``others``, polygons), in order of angle; None when
-    fewer than two are found."""
+    fewer than two are found or they do not run round both contours in the same order.
+
+    The cuts aim at the angles that share both contours' edges out evenly — by edge count, not by
+    even angles: a sector gear's edges crowd into its toothed arc, and even angles left its faces
+    ~220 edges each; each cut looks for a hole vertex within 0.45 of the gap to its neighbours."""
     section = shapely.Polygon(bulge_points(outer, 1e-3), [inner_ring, *(h.exterior.coords for h in others)])
     shapely.prepare(section)
     others = shapely.union_all([h.buffer(0.05) for h in others])
     angle_in = np.arctan2(inner[:, 1], inner[:, 0]) % (2 * math.pi)
     angle_out = np.arctan2(outer[:, 1], outer[:, 0]) % (2 * math.pi)
     radius_in = np.hypot(inner[:, 0], inner[:, 1])
+    n_out = len(outer)
+    every = np.sort(np.concatenate([angle_out, angle_in]))  # both contours' edges, by angle
+    targets = every[(np.arange(count) * len(every)) // count]
+    gaps = np.abs(np.angle(np.exp(1j * (targets - np.roll(targets, 1)))))
+    window = 0.45 * np.minimum(gaps, np.roll(gaps, -1))
     found: list[tuple[int, int]] = []
-    sector = 2 * math.pi / count
-    for k in range(count):
-        off = np.abs(np.angle(np.exp(1j * (angle_in - sector * (k + 0.25)))))
-        near = np.flatnonzero(off < 0.45 * sector)
-        for a in sorted(near, key=lambda i: (round(off[i] / sector * 20), -radius_in[i])):
+    for target, reach in zip(targets, window, strict=True):
+        off = np.abs(np.angle(np.exp(1j * (angle_in - target))))
+        near = np.flatnonzero(off < reach)
+        for a in sorted(near, key=lambda i: (round(off[i] / reach * 9), -radius_in[i])):
             b = int(np.argmin(np.abs(np.angle(np.exp(1j * (angle_out - angle_in[a]))))))
             line = shapely.LineString([inner[a, :2], outer[b, :2]])
             ends = (line.interpolate(1e-6, normalized=True), line.interpolate(1 - 1e-6, normalized=True))
@@ -234,7 +242,28 @@ def _cuts(outer, inner, inner_ring, others, count: int) -> list[tuple[int, int]]
     found = sorted(set(found), key=lambda c: angle_in[c[0]])
     if len({a for a, _ in found}) != len(found) or len({b for _, b in found}) != len(found) or len(found) < 2:
         return None
+    # both contours' runs between neighbouring cuts must go once round: the hole's clockwise, the
+    # outline's counter-clockwise (a crossing pair of cuts would fold a sector over another)
+    outs = [b for _, b in found]
+    ins = [a for a, _ in found]
+    if sum((outs[(k + 1) % len(outs)] - outs[k]) % n_out for k in range(len(outs))) != n_out:
+        return None
+    if sum((ins[k] - ins[(k + 1) % len(ins)]) % len(inner) for k in range(len(ins))) != len(inner):
+        return None
     return found
+
+
+def _run(verts: np.ndarray, start: int, stop: int) -> np.ndarray:
+    """The points of a closed contour's bulge vertices from vertex ``start`` to ``stop`` along it,
+    arcs flattened to 1 µm (a sector's boundary, to tell which holes it holds)."""
+    n = len(verts)
+    pieces = []
+    for j in range((stop - start) % n or n):
+        k = (start + j) % n
+        span = np.array([verts[k], [verts[(k + 1) % n, 0], verts[(k + 1) % n, 1], 0.0]])
+        pieces.append(bulge_points(span, 1e-3)[:-1])
+    pieces.append(verts[stop % n, :2][None])
+    return np.concatenate(pieces)
 
 
 def _sectors(occ, contours, width: float):
@@ -254,7 +283,6 @@ def _sectors(occ, contours, width: float):
     rest = [(h, shapely.Polygon(bulge_points(h, 1e-3))) for h in holes if h is not inner]
     count = max(2, round(sum(len(v) for v, _ in contours) / SECTOR_EDGES))
     cuts = _cuts(outer, inner, bulge_points(inner, 1e-3), [p for _, p in rest], count)
-    inside = [(h, p.representative_point()) for h, p in rest]
     if cuts is None:
         return None
     out_v, out_e = _edges(occ, outer)
@@ -264,18 +292,24 @@ def _sectors(occ, contours, width: float):
     shell = occ.TopoDS_Shell()
     builder.MakeShell(shell)
     n_out, n_in = len(outer), len(inner)
+    regions: list[shapely.Polygon] = []
+    sector_faces = []
     for k in range(len(cuts)):
         (a0, b0), (a1, b1) = cuts[k], cuts[(k + 1) % len(cuts)]
         along_out = [out_e[(b0 + j) % n_out] for j in range((b1 - b0) % n_out or n_out)]
         along_in = [in_e[(a1 + j) % n_in] for j in range((a0 - a1) % n_in or n_in)]  # the hole runs clockwise
         edges = [*along_out, occ.TopoDS.Edge(cut_e[(k + 1) % len(cuts)].Reversed()), *along_in, cut_e[k]]
         face = occ.BRepBuilderAPI_MakeFace(occ.gp_Pln(), _wire_of(occ, edges), True)
-        outline = [outer[(b0 + j) % n_out, :2] for j in range((b1 - b0) % n_out + 1)]
-        outline += [inner[(a1 + j) % n_in, :2] for j in range((a0 - a1) % n_in + 1)]
-        region = shapely.Polygon(outline)
-        for h, point in inside:
-            if region.is_valid and region.contains(point):
-                face.Add(_wire(occ, h))
+        regions.append(shapely.Polygon(np.concatenate([_run(outer, b0, b1), _run(inner, a1, a0)])))
+        sector_faces.append(face)
+    # each other hole in exactly one sector (the one that holds a point inside it), or no sectors
+    for h, polygon in rest:
+        point = polygon.representative_point()
+        holding = [k for k, region in enumerate(regions) if region.is_valid and region.contains(point)]
+        if len(holding) != 1:
+            return None
+        sector_faces[holding[0]].Add(_wire(occ, h))
+    for face in sector_faces:
         if not face.IsDone():
             return None
         builder.Add(shell, face.Face())

@@ -77,7 +77,7 @@ from transplanter.families.plates import Joint, LinkPlatesStudy
 from transplanter.families.scripts import Family, discover, load_family, run_script
 from transplanter.families.study import Built, Checked, Study, StudyDefaults, Table
 from transplanter.families.synthesis import SynthesisStudy
-from transplanter.families.trains import PlanetaryStudy, TrainProof
+from transplanter.families.trains import FrontPoint, PlanetaryStudy, TrainProof
 from transplanter.families.workers import part_outcome
 
 __all__ = [
@@ -96,6 +96,7 @@ __all__ = [
     "Joint",
     "PitchPairStudy",
     "PlanetaryStudy",
+    "FrontPoint",
     "TrainProof",
     "ToothedPairStudy",
     "SynthesisStudy",

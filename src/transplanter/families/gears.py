@@ -7,6 +7,7 @@ from functools import cached_property
 from pathlib import Path
 
 from transplanter import plots
+from transplanter.backlash import design_backlash
 from transplanter.cutter import Cutter
 from transplanter.errors import GeometryError, SpecError, check_int, check_number
 from transplanter.export import json_bytes
@@ -51,6 +52,10 @@ class ToothedPairStudy(StudyDefaults):
     the shop may be off by. The made pair's smallest backlash must stay above the tolerance
     budget and its largest inside the target's band, and no step may overlap. Zero backlash
     only when ``backlash=0`` is given; its shop files then carry a warning note.
+    ``min_backlash`` (mm, or ``"iso"``: the ISO/TR 10064-2 minimum at the pair's module and centre
+    distance) is a floor the smallest free play must reach at *every* position — where a tooth
+    tip passes a flank near its tip the free play dips below the play cut at the pitch point, so
+    a pair held to the ISO minimum everywhere is cut for more (the proof names how much).
 
     **Internal pairs** are checked against the closed-form interference limits along the pitch
     curves before cutting (:mod:`transplanter.interference`); with ``trim_ring_tips`` the ring's
@@ -112,6 +117,9 @@ class ToothedPairStudy(StudyDefaults):
     module: float | None = None
     #: more notes for both gears' shop files (e.g. that another part is cut from these teeth)
     notes: tuple[str, ...] = ()
+    #: the smallest free play the made pair must keep at every position: mm, or "iso" (ISO/TR
+    #: 10064-2 minimum at this module and centre distance); None: the tolerance budget
+    min_backlash: float | str | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.pair, GearPair):
@@ -126,6 +134,8 @@ class ToothedPairStudy(StudyDefaults):
                 f"curves scaled to it); got teeth={self.teeth!r}, module={self.module!r}"
             )
         check_int("mesh_steps", self.mesh_steps, 4, 100_000)
+        if self.min_backlash is not None and self.min_backlash != "iso":
+            check_number("min_backlash", self.min_backlash, 0.0, 10.0, unit="mm")
         check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
         if self.making is not None and (len(self.making) != 2 or not all(isinstance(m, Making) for m in self.making)):
             raise SpecError(f"{self.name}: making must be a (driver, driven) pair of Making")
@@ -178,7 +188,13 @@ class ToothedPairStudy(StudyDefaults):
             self.mesh_steps,
             self.must_mesh,
             self.train,
+            self._floor(s),
         )
+
+    def _floor(self, sized) -> float | None:
+        if self.min_backlash != "iso":
+            return self.min_backlash
+        return design_backlash(sized.sizing.module, sized.pair.centre_distance, sized.tool.pressure_angle)
 
     def build(self, out: Path) -> Built:
         """Teeth of both gears (outlines CSV, JSON, plot); with ``making`` the shop files with

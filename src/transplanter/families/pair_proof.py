@@ -77,6 +77,9 @@ class PairProof:
     steps: int
     must_mesh: bool = True
     train: TrainHook | None = field(default=None, compare=False)
+    #: the smallest free play the made pair must keep at every position, mm (None: the tolerance
+    #: budget, the band's own lower end)
+    min_backlash: float | None = None
 
     @property
     def internal(self) -> tuple[bool, bool]:
@@ -90,8 +93,13 @@ class PairProof:
 
     @property
     def band(self) -> tuple[float, float]:
-        """The free play the made pair must keep, mm (:func:`backlash.backlash_band`)."""
-        return backlash_band(self.pair, self.backlash, self.tolerance)
+        """The free play the made pair must keep, mm (:func:`backlash.backlash_band`), its lower
+        end raised to ``min_backlash`` when that is given."""
+        low, high = backlash_band(self.pair, self.backlash, self.tolerance)
+        if self.min_backlash is None:
+            return low, high
+        # a floor over the play cut at the pitch point raises the whole band (never inverted)
+        return max(low, self.min_backlash), max(high, backlash_band(self.pair, self.min_backlash, self.tolerance)[1])
 
     @property
     def min_clearance(self) -> float | None:
@@ -131,9 +139,19 @@ class PairProof:
     def problems(self, report: MeshReport) -> list[str]:
         """What keeps ``report``'s pair from meshing as designed, in words (empty: it does)."""
         overlap = SHOP_OVERLAP_MM2 if self.backlash > 0 else PENETRATION_TOL
-        return report.problems(
+        found = report.problems(
             max_penetration=overlap, backlash=self.band, names=self.names, clearance=self.min_clearance
         )
+        low = report.backlash_min
+        if self.min_backlash is not None and low.value < self.min_backlash:
+            # the remedy with its number: thinning the teeth raises the free play everywhere alike
+            need = math.ceil((self.backlash + self.min_backlash - low.value) * 1e3) / 1e3
+            found.append(
+                f"the smallest free play {low.value * 1e3:.1f} µm (driver {low.at_deg:.2f} deg) is below the "
+                f"{self.min_backlash * 1e3:.1f} µm this pair must keep at every position: cut it for a backlash of "
+                f"at least {need:g} mm (now {self.backlash:.4g} mm)"
+            )
+        return found
 
     def results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
         """Figures per source, the meshing plot, and the problems (``source: text``)."""
@@ -141,6 +159,7 @@ class PairProof:
         results: dict = {
             "backlash_band_mm": [rounded(band[0], 6), rounded(band[1], 6)],
             "backlash_target_mm": rounded(self.backlash, 6),
+            "min_backlash_mm": None if self.min_backlash is None else rounded(self.min_backlash, 6),
             "tolerance_mm": self.tolerance,
             "min_clearance_mm": None if self.min_clearance is None else rounded(self.min_clearance, 6),
             "steps": self.steps,

@@ -14,7 +14,6 @@ import shapely
 from transplanter import formats, plots, validate
 from transplanter.agronomy import TransplantingMetrics, transplanting_metrics
 from transplanter.cutter import ShaperCutter
-from transplanter.cutter_choice import coarsest_cut
 from transplanter.errors import GeometryError, SpecError, finite_array, finite_positive
 from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.making import Making, manufacture
@@ -27,7 +26,7 @@ from transplanter.precision import rounded, significant
 from transplanter.solids import circle_polygon
 from transplanter.train_rebuild import turned_within_play
 
-__all__ = ["PlanetaryStudy", "TrainProof"]
+__all__ = ["FrontPoint", "PlanetaryStudy", "TrainProof", "non_dominated"]
 
 
 @dataclass(frozen=True)
@@ -42,6 +41,11 @@ class TrainProof:
     train: DifferentialTrain
     #: where the train works; None: the needle tip is compared, the objectives are not measured
     site: Site | None = None
+    #: ``(objective number, margin)``: what each must keep with the planets anywhere in their play
+    #: (mm or deg); judged on the train rebuilt from the shop's DXF
+    keep: tuple[tuple[str, float], ...] = ()
+    #: a margin not kept fails the part (False: it is said in the results, beside the verdicts)
+    must_keep: bool = False
 
     @property
     def planets(self) -> int:
@@ -69,6 +73,12 @@ class TrainProof:
                 key = f"{o.number} {o.name}"
                 if key not in worst or o.margin < worst[key][1]:
                     worst[key] = (o.value, o.margin, o.unit)
+        keep = dict(self.keep)
+        short = {
+            key: round(keep[key.split()[0]] - margin, 6)
+            for key, (_, margin, _) in worst.items()
+            if key.split()[0] in keep and margin < keep[key.split()[0]]
+        }
         at = int(np.argmax(envelope))
         # where it matters: at the picking point (deepest into the box) and the push (lowest)
         pick = int(np.argmax(box_depth(design, self.site)))
@@ -84,8 +94,19 @@ class TrainProof:
                 "at_pushing": rounded(float(envelope[push]), 6),
                 "pushing_at_carrier_deg": rounded(math.degrees(theta[push]), 3),
             },
-            **{k: f"{v:.4g} {u} (margin {m:+.3g})".replace("  ", " ") for k, (v, m, u) in worst.items()},
+            **{
+                k: f"{v:.4g} {u} (margin {m:+.3g}{self._kept(k, m)})".replace("  ", " ")
+                for k, (v, m, u) in worst.items()
+            },
+            "margins_to_keep": {number: margin for number, margin in self.keep},
+            "margins_short_mm_or_deg": short,
         }
+
+    def _kept(self, key: str, margin: float) -> str:
+        need = dict(self.keep).get(key.split()[0])
+        if need is None:
+            return ""
+        return f", must keep {need:g}: " + ("kept" if margin >= need else f"short by {need - margin:.3g}")
 
     def carrier(self) -> dict:
         """How many planets to make, and where they sit on the carrier."""
@@ -126,7 +147,15 @@ class TrainProof:
         if found:
             res["note"] = "from the contact at the pitch point; the problems above are ignored"
         if self.site is not None and source == "dxf":  # the shop's file: the objectives where its play lets the arm sit
-            res["objectives_under_play"] = self._under_play(report, module, bound / self.train.arm.tip)
+            played = self._under_play(report, module, bound / self.train.arm.tip)
+            res["objectives_under_play"] = played
+            if self.must_keep:
+                keep = dict(self.keep)
+                problems += [
+                    f"{source}: with the planets anywhere in their play, objective {key} keeps "
+                    f"{keep[key.split()[0]] - gap:.3g} of the {keep[key.split()[0]]:g} margin it must keep"
+                    for key, gap in played["margins_short_mm_or_deg"].items()
+                ]
         if self.site is not None:
             objectives = seed004_objectives(check.made, self.site, module)
             res["objectives"] = {f"{o.number} {o.name}": f"{o.verdict} (limit {o.limit})" for o in objectives}
@@ -137,6 +166,37 @@ class TrainProof:
                 if not o.ok
             ]
         return check, res, problems
+
+
+@dataclass(frozen=True)
+class FrontPoint:
+    """A design on the trade-off between the module and the objectives' margins."""
+
+    label: str
+    #: the module its teeth can be cut at, mm (0: none)
+    module: float
+    #: its smallest objective margin beyond what each must keep (mm or deg; < 0: one is short)
+    margin: float
+    #: the objective that has it
+    binding: str
+    #: this study's own design
+    chosen: bool = False
+    #: it meets the search's hard rules (every objective at the design place, the gear rules)
+    feasible: bool = True
+
+
+def non_dominated(points) -> list[bool]:
+    """Which of ``points`` (``FrontPoint``) are on the front: feasible, and beaten by no other
+    feasible point in both module and margin."""
+    pool = [p for p in points if p.feasible]
+    return [
+        p in pool
+        and not any(
+            (q.module >= p.module and q.margin >= p.margin) and (q.module > p.module or q.margin > p.margin)
+            for q in pool
+        )
+        for p in points
+    ]
 
 
 @dataclass(frozen=True)
@@ -154,10 +214,12 @@ class PlanetaryStudy(StudyDefaults):
     ``must_meet`` a missed objective fails the part. The gearbox radius then follows from the
     ring and the module (``objectives.gearbox_radius``) instead of ``gearbox_radius``.
 
-    **Trade-off.** ``tradeoff`` holds ``(label, train)`` neighbours of the design (e.g. its ratio
-    variation scaled); each one's largest meshing module (``interference.screen_module``) is
-    plotted against its angle difference, hole width and gearbox clearance, and the constraint
-    that stops the design's next coarser tooth count is named with its numbers.
+    **Pareto front.** ``front`` holds :class:`FrontPoint` designs — each the best a search found
+    for one least module (the part script's design problem says how its module and margin are
+    measured) — plotted as module against the smallest objective margin, the non-dominated ones
+    joined, this design starred; and the constraint that stops this design's next coarser tooth
+    count is named with its numbers (with ``min_ring_addendum``, ring tips shorter than that count
+    as the reason they fail).
 
     **Carrier plate.** ``carrier = (outer radius mm, Making)`` makes the plate (DXF, STL); its
     ``Making.features`` carry the central bore and the planet-shaft holes, which must lie on the
@@ -182,7 +244,9 @@ class PlanetaryStudy(StudyDefaults):
     compare: tuple[tuple[str, DifferentialTrain, float], ...] = ()
     must_meet: bool = False
     carrier: tuple[float, Making] | None = None
-    tradeoff: tuple[tuple[str, DifferentialTrain], ...] = ()
+    front: tuple[FrontPoint, ...] = ()
+    #: the shortest ring tips (modules) the design's teeth may have (the binding constraint's rule)
+    min_ring_addendum: float | None = None
 
     def __post_init__(self) -> None:
         finite_positive("plant_spacing", self.plant_spacing)
@@ -243,30 +307,26 @@ class PlanetaryStudy(StudyDefaults):
         ]
         return {"columns": columns, "rows": rows, "all_met": not missed}, missed
 
-    def _tradeoff(self) -> tuple[list, str, dict[str, bytes]]:
-        rows = []
-        for label, train in (("this design", self.train), *self.tradeoff):
-            if train is self.train:
-                module = self.module
-            else:
-                found = coarsest_cut(train.pair, min_module=2.0)
-                module = found.module if found is not None else 0.0
-            m = dataclasses.replace(self, train=train, module=max(module, 1.0)).metrics()
-            rows.append(
-                {
-                    "label": label,
-                    "chosen": label == "this design",
-                    "module_mm": rounded(module, 6),
-                    "angle_difference_deg": rounded(m.angle_difference, 6),
-                    "hole_width_mm": rounded(m.hole_width, 6),
-                    "gearbox_clearance_mm": rounded(m.gearbox_clearance, 6),
-                }
-            )
+    def _front(self) -> tuple[list, str, dict[str, bytes]]:
+        points = list(self.front)
+        best = non_dominated(points)
+        rows = [
+            {
+                "label": p.label,
+                "chosen": p.chosen,
+                "feasible": p.feasible,
+                "pareto": ok,
+                "module_mm": rounded(p.module, 6),
+                "smallest_margin": rounded(p.margin, 6),
+                "binding_objective": p.binding,
+            }
+            for p, ok in zip(points, best, strict=True)
+        ]
         binding = self._binding()
-        fig = plots.tradeoff_figure(rows, self.name, binding)
-        files = plots.figure_files(fig, f"{self.name}.tradeoff")
+        fig = plots.front_figure(rows, self.name, binding)
+        files = plots.figure_files(fig, f"{self.name}.front")
         keys = list(rows[0])
-        files[f"{self.name}.tradeoff.csv"] = csv_bytes(keys, [[r[k] for k in keys] for r in rows])
+        files[f"{self.name}.front.csv"] = csv_bytes(keys, [[r[k] for k in keys] for r in rows])
         return rows, binding, files
 
     def _binding(self) -> str:
@@ -282,6 +342,11 @@ class PlanetaryStudy(StudyDefaults):
                 cutter = ShaperCutter(z0, sizing.module)
                 lim = fouling_screen(sized, cutter, pinion_addendum=pin)
                 found = lim.problems(("ring", "planet"), trochoid=False)
+                if not found and self.min_ring_addendum is not None and lim.ring_addendum < self.min_ring_addendum:
+                    found = [
+                        f"the ring's tips must be trimmed to {lim.ring_addendum:g} m (fillet/cutter limit "
+                        f"{lim.max_ring_addendum:.3f} m), under the {self.min_ring_addendum:g} m required"
+                    ]
                 if not found:
                     try:
                         generate_pair(
@@ -388,9 +453,9 @@ class PlanetaryStudy(StudyDefaults):
             results["objectives"] = objectives
         if carrier is not None:
             results["carrier_plate"] = carrier
-        if self.tradeoff:
-            rows, binding, made = self._tradeoff()
-            results["tradeoff"] = {
+        if self.front:
+            rows, binding, made = self._front()
+            results["pareto_front"] = {
                 "columns": list(rows[0]),
                 "rows": [list(r.values()) for r in rows],
                 "binding_constraint": binding,
