@@ -436,7 +436,9 @@ def front_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
         ax.plot(margin[rest], module[rest], "o", color="0.6", ms=5, label="dominated")
     missed = ~feasible
     if missed.any():
-        ax.plot(margin[missed], module[missed], "x", color="C3", ms=7, label="best found misses an objective")
+        ax.plot(
+            margin[missed], module[missed], "x", color="C3", ms=7, label="best found misses an objective or a gear rule"
+        )
     order = np.argsort(margin[best])
     ax.plot(margin[best][order], module[best][order], "o-", color="C0", ms=6, lw=1.2, label="Pareto front")
     for r, x, y in zip(rows, margin, module, strict=True):
