@@ -164,14 +164,16 @@ def _cost_errors():
         raise
 
 
-def _initial(problem: Problem, seed: int, popsize: int):
+def _initial(problem: Problem, seed: int, popsize: int, start=None):
     """scipy's ``init``: its Latin hypercube, or with ``problem.spread`` half the population around
-    ``problem.x0`` (the first member x0 itself) and half uniform, drawn reproducibly from ``seed``."""
-    if not problem.spread or problem.x0 is None:
+    ``start`` (default ``problem.x0``; the first member is it) and half uniform, drawn reproducibly
+    from ``seed``."""
+    start = problem.x0 if start is None else start
+    if not problem.spread or start is None:
         return "latinhypercube"
     lo = np.array([v[1] for v in problem.variables])
     hi = np.array([v[2] for v in problem.variables])
-    x0 = np.clip(np.asarray(problem.x0, dtype=float), lo, hi)
+    x0 = np.clip(np.asarray(start, dtype=float), lo, hi)
     rng = np.random.default_rng(seed)
     n = max(5, popsize * len(lo))
     near = np.clip(x0 + rng.normal(0.0, problem.spread, (n // 2, len(lo))) * (hi - lo), lo, hi)
@@ -208,7 +210,8 @@ def optimise(
         raise SpecError(f"scheduler must be an address like 'tcp://host:8786', got {scheduler!r}")
     history: list[float] = []
     start = time.perf_counter()
-    init, first = _initial(problem, seed, popsize), x0 if x0 is not None else problem.x0
+    first = x0 if x0 is not None else problem.x0
+    init = _initial(problem, seed, popsize, first)
 
     def callback(intermediate_result) -> None:
         history.append(float(intermediate_result.fun))
