@@ -48,6 +48,7 @@ design space — the largest smallest margin at a module of at least m — and i
 """
 
 import dataclasses
+import functools
 import math
 
 import numpy as np
@@ -407,7 +408,8 @@ FRONT_310 = (
 )
 
 
-def _front_point(x, level: float = 0.0):
+@functools.cache
+def _front_point(x: tuple, level: float = 0.0):
     """A design as the front's search measures it: (module under the rules above, smallest margin
     under play, the objective that has it, feasible: every objective but the module (the front's
     other axis) met at the design place, the gear rules kept and the module at least ``level``)."""
@@ -427,7 +429,7 @@ def made_design():
     found = []
     for level in FRONT_LEVELS:
         x = globals()[f"FRONT_{round(level * 100)}"]
-        module, margin, _, feasible = _front_point(x, level)
+        module, margin, _, feasible = _front_point(tuple(x), level)
         if feasible and module >= MIN_MODULE_MM:
             found.append((module, margin, x))
     if found:
@@ -439,7 +441,7 @@ def made_design():
 def front_design(level: float) -> tuple:
     """(design vector, module under the rules above) of the front's point at ``level`` mm."""
     x = globals()[f"FRONT_{round(level * 100)}"]
-    return x, _front_point(x, level)[0]
+    return x, _front_point(tuple(x), level)[0]
 
 
 def front_points(made, made_module: float) -> tuple:
@@ -452,11 +454,11 @@ def front_points(made, made_module: float) -> tuple:
     if made is OPTIMUM:  # made under the earlier rules: its own point, at the module it is cut at
         binding, margin = smallest_margin(objectives_under_play(design_train(OPTIMUM), made_module))
         out.append(FrontPoint("made: OPTIMUM, ring tips 0.43 m", made_module, margin, binding, True, False))
-    module, margin, binding, feasible = _front_point(OPTIMUM)
+    module, margin, binding, feasible = _front_point(tuple(OPTIMUM))
     out.append(FrontPoint("OPTIMUM with 0.6 m ring tips", module, margin, binding, False, feasible))
     for level in FRONT_LEVELS:
         x = globals()[f"FRONT_{round(level * 100)}"]
-        module, margin, binding, feasible = _front_point(x, level)
+        module, margin, binding, feasible = _front_point(tuple(x), level)
         chosen = made is not OPTIMUM and tuple(x) == tuple(made)
         out.append(FrontPoint(f"best at m >= {level:g} mm", module, margin, binding, chosen, feasible))
     return tuple(out)
