@@ -362,7 +362,8 @@ def scaled(x, factor: float) -> tuple:
 #: (9 720 designs, 28 min on 2 cores; best cost 1.82: 96/24 teeth at 2.51 mm, every objective met
 #: but viii by 0.14 mm, ν 30.18 deg); ``FRONT_280`` and ``FRONT_310`` the same with ``--maxiter 25``
 #: (~8 min each: 80/20 teeth at 2.92 mm with every objective met but ν 32.18 deg; 76/19 at 3.11 mm,
-#: ν 31.79 deg and viii missed by 0.24 mm). None is feasible: see ``made_design``.
+#: ν 31.79 deg and viii missed by 0.24 mm). None is feasible: see ``made_design``. At m >= 2.2 mm
+#: (25 generations) the search found nothing better than OPTIMUM itself (2.22 mm, 1.95 short).
 FRONT_LEVELS = (2.5, 2.8, 3.1)
 FRONT_250 = (
     0.8233979976546597,
