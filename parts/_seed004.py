@@ -57,7 +57,7 @@ from transplanter.backlash import design_backlash
 from transplanter.cutter import ShaperCutter
 from transplanter.cutter_choice import coarsest_cut
 from transplanter.interference import pair_limits, screen_module
-from transplanter.objectives import MIN_MODULE_MM, Site, seed004_objectives
+from transplanter.objectives import MIN_MODULE_MM, Site, seed004_objectives, worst_of
 from transplanter.optimise import Problem
 from transplanter.pitch import GearPair, PitchCurve
 from transplanter.planetary import ArmGeometry, DifferentialTrain
@@ -164,13 +164,8 @@ def objectives_under_play(train: DifferentialTrain, module: float, n: int = 720)
     """Each objective at its worst over the planets at the design place and at either end of
     :func:`play_turn` (constant turn): the values a design search can hold to margins."""
     turn = play_turn(train, module)
-    worst: dict = {}
-    for sign in (0.0, -1.0, 1.0):
-        played = meshed_train(train, (0.0, math.pi), (sign * turn, sign * turn)) if sign else train
-        for k, o in enumerate(seed004_objectives(played, SITE, module, n=n)):
-            if k not in worst or o.margin < worst[k].margin:
-                worst[k] = o
-    return tuple(worst[k] for k in sorted(worst))
+    played = [meshed_train(train, (0.0, math.pi), (sign * turn, sign * turn)) for sign in (-1.0, 1.0)]
+    return worst_of(*(seed004_objectives(t, SITE, module, n=n) for t in (train, *played)))
 
 
 def mean_contact_ratio(pair, found) -> float:

@@ -48,6 +48,7 @@ __all__ = [
     "Objective",
     "gearbox_radius",
     "seed004_objectives",
+    "worst_of",
     "back_over_plant",
     "box_depth",
     "ARM_CLEARANCE_MM",
@@ -211,3 +212,9 @@ def seed004_objectives(
         Objective("xi", "module", module, MIN_MODULE_MM, inf, "mm"),
         Objective("xii", "needle to box slope at entry", entry_angle, -inf, 90.0, "deg"),
     )
+
+
+def worst_of(*measured: tuple[Objective, ...]) -> tuple[Objective, ...]:
+    """Each objective at its least margin over several measurements of one design (e.g. with the
+    planets at either end of their play); the first such on a tie."""
+    return tuple(min(group, key=lambda o: o.margin) for group in zip(*measured, strict=True))

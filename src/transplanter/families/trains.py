@@ -19,7 +19,7 @@ from transplanter.export import csv_bytes, json_bytes
 from transplanter.families.making import Making, manufacture
 from transplanter.families.study import Built, StudyDefaults, Table
 from transplanter.interference import SCREEN_CUTTERS, fouling_screen
-from transplanter.objectives import Objective, Site, box_depth, gearbox_radius, seed004_objectives
+from transplanter.objectives import Objective, Site, box_depth, gearbox_radius, seed004_objectives, worst_of
 from transplanter.pair_gate import generate_pair
 from transplanter.planetary import DifferentialTrain
 from transplanter.precision import rounded, significant
@@ -61,24 +61,27 @@ class TrainProof:
         from the parts: the margins that survive the pair's own play (figures; issue 27 asks a
         re-design to keep v >= 2 deg, i >= 3 mm, vi >= 2 mm of them), and the needle tip's envelope
         over a carrier turn (720 positions): its largest distance from the design path."""
-        worst: dict = {}
         theta = 2 * math.pi * np.arange(720) / 720  # carrier turn
         design = self.train.state(theta).tip
         envelope = np.zeros(len(theta))
+        measured = []
         for sign in (-1.0, 1.0):
             played = turned_within_play(self.train, report, sign * turn)
             envelope = np.maximum(envelope, np.linalg.norm(played.state(theta).tip - design, axis=1))
-            found = seed004_objectives(played, self.site, module)
-            for o in found:
-                key = f"{o.number} {o.name}"
-                if key not in worst or o.margin < worst[key][1]:
-                    worst[key] = (o.value, o.margin, o.unit)
+            measured.append(seed004_objectives(played, self.site, module))
+        worst = {f"{o.number} {o.name}": o for o in worst_of(*measured)}
         keep = dict(self.keep)
-        short = {
-            key: round(keep[key.split()[0]] - margin, 6)
-            for key, (_, margin, _) in worst.items()
-            if key.split()[0] in keep and margin < keep[key.split()[0]]
-        }
+        need = {key: keep[o.number] for key, o in worst.items() if o.number in keep}
+        short = {key: round(need[key] - worst[key].margin, 6) for key in need if worst[key].margin < need[key]}
+
+        def said(key: str, o) -> str:
+            kept = (
+                ""
+                if key not in need
+                else f", must keep {need[key]:g}: " + (f"short by {short[key]:.3g}" if key in short else "kept")
+            )
+            return f"{o.value:.4g} {o.unit} (margin {o.margin:+.3g}{kept})".replace("  ", " ")
+
         at = int(np.argmax(envelope))
         # where it matters: at the picking point (deepest into the box) and the push (lowest)
         pick = int(np.argmax(box_depth(design, self.site)))
@@ -94,19 +97,10 @@ class TrainProof:
                 "at_pushing": rounded(float(envelope[push]), 6),
                 "pushing_at_carrier_deg": rounded(math.degrees(theta[push]), 3),
             },
-            **{
-                k: f"{v:.4g} {u} (margin {m:+.3g}{self._kept(k, m)})".replace("  ", " ")
-                for k, (v, m, u) in worst.items()
-            },
-            "margins_to_keep": {number: margin for number, margin in self.keep},
+            **{key: said(key, o) for key, o in worst.items()},
+            "margins_to_keep": keep,
             "margins_short_mm_or_deg": short,
         }
-
-    def _kept(self, key: str, margin: float) -> str:
-        need = dict(self.keep).get(key.split()[0])
-        if need is None:
-            return ""
-        return f", must keep {need:g}: " + ("kept" if margin >= need else f"short by {need - margin:.3g}")
 
     def carrier(self) -> dict:
         """How many planets to make, and where they sit on the carrier."""
