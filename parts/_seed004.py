@@ -250,11 +250,17 @@ def smallest_margin(objectives) -> tuple[str, float]:
     return min(rows, key=lambda r: r[1])
 
 
+def _rules_short(rules) -> float:
+    """How far the first two gear rules of :func:`cuttability` are missed: ν over its limit (deg)
+    plus the planet's wall under its (mm); 0 when both hold."""
+    return max(0.0, rules[0][1] - rules[0][2]) + max(0.0, rules[1][2] - rules[1][1])
+
+
 def _shortfall(objectives, rules) -> float:
     """Objectives missed or short of their margins under play, in units of 5 deg / 5 mm (0.5 mm
     of module), and the gear rules."""
     out = sum(margin_shortfall(o) / (0.5 if o.number == "xi" else 5.0) for o in objectives)
-    return out + max(0.0, rules[0][1] - rules[0][2]) / 5.0 + max(0.0, rules[1][2] - rules[1][1]) / 5.0
+    return out + _rules_short(rules) / 5.0
 
 
 def problem(min_module: float | None = None) -> Problem:
@@ -282,8 +288,7 @@ def problem(min_module: float | None = None) -> Problem:
         train, found, objectives, rules = evaluate(x, cut=False)
         module = found.module if found is not None else 0.0
         missed = sum(o.shortfall for o in seed004_objectives(train, SITE, max(module, 1.0), n=720) if o.number != "xi")
-        rules_short = max(0.0, rules[0][1] - rules[0][2]) + max(0.0, rules[1][2] - rules[1][1])
-        hard = max(0.0, min_module - module) / 0.5 + (rules_short + missed) / 5.0
+        hard = max(0.0, min_module - module) / 0.5 + (_rules_short(rules) + missed) / 5.0
         return 10.0 * hard - smallest_margin(objectives)[1]
 
     if min_module is None:
@@ -412,9 +417,9 @@ def _front_point(x: tuple, level: float = 0.0):
     train, found, objectives, rules = evaluate(x, cut=False)
     module = found.module if found is not None else 0.0
     nominal = seed004_objectives(train, SITE, max(module, 1.0), n=720)
-    gear_rules = rules[0][1] <= rules[0][2] and rules[1][1] >= rules[1][2]
     binding, margin = smallest_margin(objectives)
-    return module, margin, binding, module >= level and gear_rules and all(o.ok for o in nominal if o.number != "xi")
+    feasible = module >= level and _rules_short(rules) == 0 and all(o.ok for o in nominal if o.number != "xi")
+    return module, margin, binding, feasible
 
 
 def made_design():
