@@ -49,9 +49,15 @@ def wire_path(section: shapely.Polygon, offset: float) -> shapely.Polygon:
 
 
 def _thickness(piece) -> float:
-    """The smaller side of a region's minimum rotated rectangle, mm."""
+    """A region's thickness, mm: the smaller side of its minimum rotated rectangle, or — for a
+    curved sliver, whose rectangle is as thick as its bow — the diameter of its largest inscribed
+    circle, whichever is smaller."""
     c = np.asarray(piece.minimum_rotated_rectangle.exterior.coords)
-    return float(np.min(np.linalg.norm(np.diff(c[:3], axis=0), axis=1)))
+    box = float(np.min(np.linalg.norm(np.diff(c[:3], axis=0), axis=1)))
+    if box <= WIRE_EDM_TOLERANCE:
+        return box
+    circle = shapely.maximum_inscribed_circle(piece, tolerance=1e-5)
+    return min(box, 2 * float(circle.length))
 
 
 def wire_violations(

@@ -457,3 +457,32 @@ def front_figure(rows: list[dict], title: str, binding: str) -> plt.Figure:
     fig.text(0.01, 0.01, "\n".join(textwrap.wrap(binding, 150)), fontsize=7, va="bottom")
     fig.tight_layout(rect=(0, 0.08, 1, 1))
     return fig
+
+
+def intermittent_figure(title: str, phi_deg, psi_deg, ratio, dwells, curves: dict, play_limit: float) -> plt.Figure:
+    """An intermittent motion over the driver's turn: the driven angle (the dwells shaded), the
+    ratio ω2/ω1 with its jumps at each dwell, and the driven gear's free play (deg) per checked
+    source at the uniform and refined samples, against the locking play it must stay within."""
+    fig, (ax1, ax2, ax3) = plt.subplots(3, 1, figsize=(9, 9), sharex=True)
+    for ax in (ax1, ax2, ax3):
+        for lo, hi in dwells:
+            ax.axvspan(lo % 360, (lo % 360) + (hi - lo), color="0.88", lw=0)
+            if (lo % 360) + (hi - lo) > 360:
+                ax.axvspan(0, (lo % 360) + (hi - lo) - 360, color="0.88", lw=0)
+        ax.grid(alpha=0.3)
+    ax1.plot(phi_deg, psi_deg, "k-", lw=1.2)
+    ax1.set_ylabel("driven angle (deg)")
+    ax1.set_title(f"{title}: dwells shaded")
+    ax2.plot(phi_deg, ratio, "C0-", lw=1.2)
+    ax2.set_ylabel("ratio ω2/ω1")
+    for k, (source, (a, p)) in enumerate(sorted(curves.items())):
+        order = np.argsort(a)
+        ax3.plot(np.asarray(a)[order], np.asarray(p)[order], f"C{k}-", lw=0.9, label=source)
+    ax3.axhline(play_limit, color="C3", ls="--", lw=1, label=f"locking play {play_limit:g} deg")
+    ax3.set_yscale("log")
+    ax3.set_ylabel("free play of the driven (deg)")
+    ax3.set_xlabel("driver angle (deg)")
+    ax3.set_xlim(0, 360)
+    ax3.legend(loc="upper right", fontsize=8)
+    fig.tight_layout()
+    return fig

@@ -265,6 +265,7 @@ def generate(
     min_land: float = 0.2,
     tolerance: float = CHORD_TOLERANCE,
     phase: float = 0.0,
+    spaces=None,
 ) -> ToothedGear:
     """Generate the teeth of a gear with pitch curve ``curve`` by the shaper ``cutter``.
 
@@ -295,12 +296,24 @@ def generate(
     phase : float
         Tooth-space centres at ``(j + phase) π m`` of arc length: 0 puts a space, 0.5 a tooth
         at the curve's start (a mating gear takes the other).
+    spaces : array or None
+        A **toothed sector** (incomplete gears, :mod:`transplanter.incomplete`): the arc lengths
+        (mm, increasing, less than a turn apart) of the only tooth-space centres to cut, one
+        circular pitch ``π m`` apart; the rest of the curve is left as the blank, so the
+        perimeter need not be a whole number of teeth and ``teeth`` is the number of spaces.
     """
     require_cutter(cutter)
     if not isinstance(curve, PitchCurve):
         raise SpecError(f"curve must be a PitchCurve, got {type(curve).__name__}")
     m = cutter.module
-    check_int("teeth", teeth, 6, 100_000)
+    sector = spaces is not None
+    if sector:
+        spaces = np.asarray(spaces, dtype=float)
+        if spaces.ndim != 1 or len(spaces) < 2 or np.any(np.diff(spaces) <= 0):
+            raise SpecError("spaces must be two or more increasing arc lengths (mm) of tooth-space centres")
+        teeth = len(spaces)
+    else:
+        check_int("teeth", teeth, 6, 100_000)
     shift = check_number("shift", shift, -1.5, 1.5)
     addendum = check_number("addendum", addendum, 0.0, 2.0, low_open=True, unit="m")
     if rim is not None:
@@ -310,7 +323,9 @@ def generate(
     tolerance = check_number("tolerance", tolerance, 1e-6, 0.1, unit="mm")
     phase = check_number("phase", phase, -1e6, 1e6)
     perimeter = curve.perimeter
-    if abs(perimeter - teeth * math.pi * m) > 1e-9 * perimeter:
+    if sector and (spaces[-1] - spaces[0] > perimeter - 2 * math.pi * m):
+        raise SpecError.out_of_range("the toothed sector's span", float(spaces[-1] - spaces[0]), f"< the perimeter less two pitches ({perimeter - 2 * math.pi * m:.6g} mm)")
+    if not sector and abs(perimeter - teeth * math.pi * m) > 1e-9 * perimeter:
         raise GeometryError(
             f"pitch-curve perimeter {perimeter:.9g} mm != teeth * π * m = {teeth * math.pi * m:.9g} mm "
             f"({teeth} teeth, m = {m:g}); size the pair with GearPair.sized(module=...) or (teeth=...)"
@@ -324,10 +339,10 @@ def generate(
     side = -1.0 if internal else 1.0
     frame = ArcFrame.from_curve(curve)
     cutter.check_fits(frame, internal, shift)
-    pitch = frame.length / teeth
-    s_centres = pitch * (np.arange(teeth) + phase)
+    pitch = math.pi * m if sector else frame.length / teeth
+    s_centres = spaces if sector else pitch * (np.arange(teeth) + phase)
     # the envelope of one symmetric sector, turned onto the others (a circle: one space)
-    turns = _symmetry(curve, teeth)
+    turns = 1 if sector else _symmetry(curve, teeth)
     tau, y = _profile_grid(frame, cutter, s_centres[: teeth // turns], side, shift, tolerance)
     tip_offset = side * (addendum + shift) * m  # the tip curve: the pitch curve moved along N
     tip = _tip_region(frame, tip_offset, tolerance, turns)
@@ -375,9 +390,11 @@ def generate(
     if internal:
         # a ring is cut by a shaper: a rack cannot roll inside a curve (cutter.check_fits refused it)
         shaper = cast(ShaperCutter, cutter)
-        depth, where = secondary_cut(body, frame, shaper, teeth, shift, side, phase=phase, turns=turns)
+        depth, where = secondary_cut(
+            body, frame, shaper, teeth, shift, side, phase=phase, turns=turns, centres=s_centres if sector else None
+        )
         if depth > 4 * tolerance:
-            tooth = int(round(where / pitch - phase)) % teeth
+            tooth = int(np.argmin(np.abs(s_centres - where))) if sector else int(round(where / pitch - phase)) % teeth
             raise GeometryError(
                 f"secondary cutting near tooth space {tooth}: the cutter's other teeth reach {depth * 1000:.1f} µm "
                 f"into the ring while leaving the mesh (limit {4 * tolerance * 1000:.1f} µm); use a cutter with "
@@ -386,7 +403,9 @@ def generate(
     if apart is not None:
         lands = lands_between(frame, apart.crossings, tip_offset)
     else:
-        lands = tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, phase)
+        lands = tip_lands(tip, cut, frame, s_centres, side, (addendum + shift) * m, None if sector else phase)
+    if sector:  # the "tooth" from the last space round to the first is the uncut rest of the blank
+        lands[-1] = math.inf
     thin = np.flatnonzero(lands < min_land * m)
     if thin.size:
         t = int(thin[0])
@@ -410,6 +429,12 @@ def generate(
     )
 
 
+#: a toothed sector's spaces this many pitches from its ends are left out of the secondary-cut
+#: check: there a shaper's other teeth reach the uncut rest of the blank (run-out, not a defect of
+#: the envelope the wire follows)
+SECTOR_RUN_OUT = 3
+
+
 def secondary_cut(
     body,
     frame: ArcFrame,
@@ -420,6 +445,7 @@ def secondary_cut(
     per_pitch: int = 3,
     phase=0.0,
     turns: int = 1,
+    centres=None,
 ):
     """Deepest reach (mm) of any cutter position into the finished ``body``, and its roll (mm).
 
@@ -428,11 +454,23 @@ def secondary_cut(
     The finished gear must not overlap the cutter at any roll position; where it does, the
     cutter's other teeth would have cut it (secondary cutting on ring gears, or interference).
     A gear that turns onto itself ``turns`` times a revolution (:func:`_symmetry`) is checked
-    over one such sector: the others repeat it.
+    over one such sector: the others repeat it. ``centres`` (a toothed sector's space centres,
+    arc lengths) limits the rolls to the sector and a pitch either side.
     """
-    pitch = frame.length / teeth
-    s = pitch * np.arange(teeth // turns * per_pitch) / per_pitch
-    j = (np.round(s / pitch - phase) + phase) * pitch
+    if centres is not None:
+        pitch = cutter.pitch
+        # within the sector only: at its ends a shaper's other teeth would cut the uncut rest of the
+        # blank (a shaped sector needs run-out there; the outline is the envelope, made by the wire)
+        inner = np.diff(centres) < 1.01 * pitch  # a pitch apart: within a sector
+        runs = np.split(np.arange(len(centres)), np.flatnonzero(~inner) + 1)
+        ends = SECTOR_RUN_OUT
+        gaps = np.concatenate([r[ends : len(r) - 1 - ends] for r in runs if len(r) > 2 * ends + 1] or [np.zeros(0, int)])
+        s = (centres[gaps, None] + pitch * np.arange(per_pitch) / per_pitch).ravel()
+        j = centres[np.argmin(np.abs(s[:, None] - centres[None, :]), axis=1)]
+    else:
+        pitch = frame.length / teeth
+        s = pitch * np.arange(teeth // turns * per_pitch) / per_pitch
+        j = (np.round(s / pitch - phase) + phase) * pitch
     c, psi = cutter.placement(frame, s, j, side, shift)
     outline = cutter.outline(per_piece=6)
     whole = body

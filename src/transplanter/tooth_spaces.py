@@ -191,7 +191,8 @@ def lands_between(frame, crossings, offset) -> np.ndarray:
 
 
 def tip_lands(tip, cut, frame, s_centres, side, offset, phase):
-    """Length of tip curve left on each tooth, mm (tooth t between spaces t and t+1)."""
+    """Length of tip curve left on each tooth, mm (tooth t between spaces t and t+1); ``phase``
+    None: a toothed sector, its spaces at ``s_centres`` (increasing arc lengths)."""
     left = shapely.difference(tip.exterior if isinstance(tip, shapely.Polygon) else tip.boundary, cut)
     pieces = getattr(left, "geoms", [left])
     lands = np.zeros(len(s_centres))
@@ -204,6 +205,9 @@ def tip_lands(tip, cut, frame, s_centres, side, offset, phase):
             continue
         mid = np.asarray(piece.interpolate(0.5, normalized=True).coords)[0]
         k = int(np.argmin(np.linalg.norm(probe - mid, axis=1)))
-        t = int(math.floor(probe_s[k] / pitch - phase)) % len(s_centres)
+        if phase is None:
+            t = (int(np.searchsorted(s_centres, probe_s[k], side="right")) - 1) % len(s_centres)
+        else:
+            t = int(math.floor(probe_s[k] / pitch - phase)) % len(s_centres)
         lands[t] += piece.length
     return lands

@@ -1,0 +1,520 @@
+"""Incomplete gear pairs: from an intermittent law to shop files, meshing proof and report.
+
+:class:`IncompletePairStudy` sizes an :class:`~transplanter.pitch.intermittent.IncompletePair`
+(the law of dwells and motions, external or a planet driving its ring), cuts it
+(:func:`transplanter.incomplete.cut_incomplete`: toothed sectors by the cutter's envelope,
+locking arcs, the transitions relieved by the driver's own sweep), and proves it on the outlines
+and on the DXF and STL re-read from their bytes, as full pairs are proved
+(:func:`transplanter.meshing.mesh_check`, every gap, extremes refined between the samples), each
+position judged by its phase:
+
+* **motion** (the sector teeth in mesh): no overlap, the free play inside the backlash band of
+  full gears (tolerance budget .. target's upper end), mid-play clearance above half the budget;
+* **dwell**: the driven gear held by the locking arcs — its free play, as a driven angle,
+  within the **locking play** the study states (``max_play_deg``, degrees in all) at every
+  position of the dwell, and at least the tolerance budget (parts off by the tolerance do not
+  jam; the mid-play clearance is reported: with the play one-sided it says little);
+* **transition** (the stretch of motion whose teeth pass the lock zone, either side of each
+  dwell): the same locking play holds — the driven gear never strays further from its law than
+  in the dwell — and the figures say how far it does.
+
+Each dwell/motion boundary is reported with the jump of the driven's speed and acceleration the
+law asks for (per unit driver speed: the entry shock), and where the entry contact is: the
+driver angle from which the driving flanks stay closed within the band, and the radii of that
+first contact on both gears against their tips (a contact within ``TIP_BAND`` modules of both
+tips is tip-on-tip and refused).
+
+Files: ``<name>.driver|driven.dxf/.stl/.step`` with timing marks, ``<name>.assembly.3mf`` and
+``.assembly.dxf``, ``<name>.motion.csv`` (the law), ``<name>.dxf_meshing.csv``, outlines, and
+``<name>.motion.png`` — the law with its dwells, the ratio with its jumps and the free play per
+phase against the band and the locking play.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+
+import numpy as np
+import shapely
+
+from transplanter import formats, plots, validate
+from transplanter.backlash import BAND_FACTOR, BAND_SLACK_MM, design_backlash, tolerance_budget
+from transplanter.cutter import Cutter, ShaperCutter
+from transplanter.errors import GeometryError, SpecError, check_int, check_number
+from transplanter.export import csv_bytes, json_bytes
+from transplanter.families import pair_assembly
+from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
+from transplanter.families.study import Built, Checked, StudyDefaults
+from transplanter.incomplete import LOCK_ADDENDUM, TRANSITION_PITCHES, IncompleteGears, cut_incomplete
+from transplanter.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw
+from transplanter.precision import rounded, significant
+from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
+
+__all__ = ["IncompletePairStudy", "TIP_BAND"]
+
+ROLES = ("driver", "driven")
+#: an entry contact within this many modules of both gears' tips is tip-on-tip
+TIP_BAND = 0.1
+#: meshing steps per driver turn
+STEPS = 720
+
+
+@dataclass(frozen=True)
+class IncompletePairStudy(StudyDefaults):
+    """An incomplete pair of ``law`` at ``module`` (mm), sized by ``teeth`` (the pitches rolled
+    over a driver turn, all motions together) or ``centre_distance`` (mm), exactly one; ``mesh``
+    ``"external"`` or ``"internal"`` (the planet drives its ring); cut by ``cutter`` (a shaper,
+    ``ShaperCutter(16)`` by default) for ``backlash`` (mm; None: ISO/TR 10064-2); the locks' radial
+    clearance ``lock_clearance`` (mm; default 0.4 of the backlash), the locking arc's height above
+    the end pitch radius ``lock_addendum`` (modules; the teeth passing the lock are relieved to
+    it), and the locking play the proof holds the dwells and transitions to, ``max_play_deg``
+    (deg, the driven's free play in all)."""
+
+    cost = 10
+
+    name: str
+    law: IntermittentLaw
+    module: float
+    mesh: str = "external"
+    teeth: float | None = None
+    centre_distance: float | None = None
+    cutter: Cutter | None = None
+    backlash: float | None = None
+    lock_clearance: float | None = None
+    lock_addendum: float | None = LOCK_ADDENDUM
+    max_play_deg: float = 1.0
+    making: tuple[Making, Making] | None = None
+    tolerance: float = WIRE_EDM_TOLERANCE
+    steps: int = STEPS
+    addendum: float | tuple[float, float] = 1.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.law, IntermittentLaw):
+            raise SpecError(f"{self.name}: law must be an IntermittentLaw, got {type(self.law).__name__}")
+        check_number("module", self.module, 0.05, 100.0, unit="mm")
+        if (self.teeth is None) == (self.centre_distance is None):
+            raise SpecError(
+                f"{self.name}: give exactly one of teeth (pitches rolled per driver turn) or centre_distance (mm) "
+                f"with the module; got teeth={self.teeth!r}, centre_distance={self.centre_distance!r}"
+            )
+        if self.teeth is not None:
+            check_number("teeth", self.teeth, 4.0, 10_000.0)
+        if self.centre_distance is not None:
+            check_number("centre_distance", self.centre_distance, 0.0, 100_000.0, low_open=True, unit="mm")
+        check_number("max_play_deg", self.max_play_deg, 0.0, 45.0, low_open=True, unit="deg")
+        check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
+        check_int("steps", self.steps, 36, 100_000)
+        if self.cutter is not None and not isinstance(self.cutter, Cutter):
+            raise SpecError(f"{self.name}: cutter must be a ShaperCutter or RackCutter, got {type(self.cutter).__name__}")
+        if self.making is not None and (len(self.making) != 2 or not all(isinstance(m, Making) for m in self.making)):
+            raise SpecError(f"{self.name}: making must be a (driver, driven) pair of Making")
+
+    # -- size and cut --------------------------------------------------------------------------
+
+    @cached_property
+    def pair(self) -> IncompletePair:
+        """The law at the centre distance its sizing gives."""
+        nominal = IncompletePair(self.law, 100.0, self.mesh)
+        if self.centre_distance is not None:
+            return nominal.scaled(self.centre_distance / 100.0)
+        rolled = sum(nominal.sector_lengths())
+        return nominal.scaled(float(self.teeth) * math.pi * self.module / rolled)
+
+    @property
+    def tool(self) -> Cutter:
+        cutter = self.cutter if self.cutter is not None else ShaperCutter(16)
+        if cutter.module is None:
+            return cutter.sized(self.module)
+        if abs(cutter.module - self.module) > 1e-9 * self.module:
+            raise SpecError.out_of_range("cutter module", cutter.module, f"the study's module {self.module!r} mm")
+        return cutter
+
+    @cached_property
+    def design_backlash(self) -> float:
+        if self.backlash is not None:
+            return check_number("backlash", self.backlash, 0.0, self.module, low_open=True, high_open=True, unit="mm")
+        return design_backlash(self.module, self.pair.centre_distance, self.tool.pressure_angle)
+
+    @cached_property
+    def gears(self) -> IncompleteGears:
+        return cut_incomplete(
+            self.pair,
+            self.tool,
+            self.design_backlash,
+            addendum=self.addendum,
+            lock_clearance=self.lock_clearance,
+            lock_addendum=self.lock_addendum,
+        )
+
+    # -- the proof -------------------------------------------------------------------------------
+
+    @property
+    def band(self) -> tuple[float, float]:
+        """Free play of the teeth in mesh, mm at the driven pitch point: tolerance budget .. the
+        target grown by the driven curve's largest pressure deviation (as for full gears)."""
+        pair = self.pair
+        nu = 0.0
+        for motion in pair.law.motions:
+            phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 2001)
+            r1, dr1 = pair.r1(phi, motion=motion), pair.r1(phi, 1, motion=motion)
+            r2 = pair.r2(phi, motion=motion)
+            dr2 = dr1 / motion.ratio(phi)  # |dr2/dψ|
+            nu = max(nu, float(np.max(np.abs(np.arctan2(dr2, r2)))))
+        j = self.design_backlash
+        return tolerance_budget(self.tolerance), j / math.cos(nu) * BAND_FACTOR + BAND_SLACK_MM
+
+    @property
+    def min_clearance(self) -> float:
+        return tolerance_budget(self.tolerance) / 2
+
+    def phases(self, phi: np.ndarray) -> np.ndarray:
+        """Per driver angle (rad): 0 motion, 1 dwell, 2 transition (motion whose teeth pass a lock
+        zone: the lock zone's roll and ``TRANSITION_PITCHES`` pitches beyond it)."""
+        pair = self.pair
+        out = np.where(pair.moving(phi), 0, 1)
+        deg = np.mod(np.degrees(phi), 360.0)
+        for k, motion in enumerate(pair.law.motions):
+            table_phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 2001)
+            speed = np.hypot(pair.r1(table_phi, motion=motion), pair.r1(table_phi, 1, motion=motion))
+            u = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(table_phi))])
+            zone = self.gears.zones[k]
+            reach = TRANSITION_PITCHES * math.pi * self.module
+            a = math.degrees(float(np.interp(min(zone[0] + reach, u[-1]), u, table_phi)))
+            b = math.degrees(float(np.interp(max(u[-1] - zone[1] - reach, 0.0), u, table_phi)))
+            for lo, hi in ((motion.start, a), (b, motion.end)):
+                sel = (np.mod(deg - lo, 360.0) < np.mod(hi - lo, 360.0)) & (out == 0)
+                out[sel] = 2
+        return out
+
+    def meshed(self, files: dict[str, bytes], sources=("outline", "dxf", "stl")) -> dict:
+        """``{source: MeshReport}`` of the sources present in ``files`` (or why one cannot be read)."""
+        out = {}
+        internal = (False, self.mesh == "internal")
+        for source in sources:
+            suffix = "outline.csv" if source == "outline" else source
+            names = [f"{self.name}.{role}.{suffix}" for role in ROLES]
+            if not all(n in files for n in names):
+                continue
+            try:
+                polys = [formats.section_of(n, files[n], i) for n, i in zip(names, internal, strict=True)]
+            except Exception as exc:  # noqa: BLE001 - any unreadable file is a finding, said in words
+                out[source] = str(exc)
+                continue
+            out[source] = validate.mesh_check(self.pair, *polys, self.module, steps=self.steps, refine=True)
+        return out
+
+    def judge(self, report) -> tuple[dict, list[str]]:
+        """One source's figures per phase and the problems (module docstring)."""
+        pair = self.pair
+        angle, play = report.samples("backlash")
+        _, clear = report.samples("clearance")
+        r2 = np.abs(pair.driver.r(angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance))
+        deg_play = np.degrees(play / r2)
+        phase = self.phases(angle)
+        lo, hi = self.band
+        problems = []
+        out: dict = {"steps": len(report.driver_angle), "refined_samples": len(angle) - len(report.driver_angle)}
+        pen = float(report.penetration.max())
+        out["max_penetration_mm2"] = significant(pen) if pen > 1e-12 else 0.0
+        if pen > SHOP_OVERLAP_MM2:
+            k = int(np.argmax(report.penetration))
+            problems.append(
+                f"the gears overlap by {pen:.3g} mm² at driver {math.degrees(report.driver_angle[k]):.2f} deg "
+                f"(limit {SHOP_OVERLAP_MM2:g} mm²)"
+            )
+        for code, label in ((0, "motion"), (1, "dwell"), (2, "transition")):
+            sel = phase == code
+            if not sel.any():
+                continue
+            k_lo, k_hi = np.flatnonzero(sel)[np.argmin(play[sel])], np.flatnonzero(sel)[np.argmax(play[sel])]
+            k_deg = np.flatnonzero(sel)[np.argmax(deg_play[sel])]
+            k_clear = np.flatnonzero(sel)[np.argmin(clear[sel])]
+            out[label] = {
+                "free_play_mm": [significant(float(play[k_lo])), significant(float(play[k_hi]))],
+                "free_play_at_driver_deg": [round(math.degrees(angle[k_lo]), 4), round(math.degrees(angle[k_hi]), 4)],
+                "largest_play_deg": significant(float(deg_play[k_deg])),
+                "largest_play_at_driver_deg": round(math.degrees(angle[k_deg]), 4),
+                "clearance_mm": significant(float(clear[k_clear])),
+                "clearance_at_driver_deg": round(math.degrees(angle[k_clear]), 4),
+            }
+            if code == 0 and float(clear[k_clear]) < self.min_clearance:
+                problems.append(
+                    f"{label}: clearance {clear[k_clear] * 1e3:.1f} µm at driver {math.degrees(angle[k_clear]):.2f} deg "
+                    f"is below {self.min_clearance * 1e3:.1f} µm (half the tolerance budget)"
+                )
+            if code == 0 and (play[k_lo] < lo or play[k_hi] > hi):
+                problems.append(
+                    f"motion: free play {play[k_lo]:.4g}..{play[k_hi]:.4g} mm leaves the band {lo:.4g}..{hi:.4g} mm (at "
+                    f"driver {math.degrees(angle[k_lo]):.2f} and {math.degrees(angle[k_hi]):.2f} deg)"
+                )
+            if code in (1, 2) and play[k_lo] < lo:
+                problems.append(
+                    f"{label}: free play {play[k_lo] * 1e3:.1f} µm at driver {math.degrees(angle[k_lo]):.2f} deg is below the "
+                    f"tolerance budget {lo * 1e3:.1f} µm: parts off by the tolerance would jam"
+                )
+            if code in (1, 2) and deg_play[k_deg] > self.max_play_deg:
+                problems.append(
+                    f"{label}: the driven gear can turn {deg_play[k_deg]:.3f} deg at driver {math.degrees(angle[k_deg]):.2f} "
+                    f"deg, beyond the locking play {self.max_play_deg:g} deg"
+                )
+        contacts = report.contacts[phase[: len(report.driver_angle)] != 1] if len(report.driver_angle) else []
+        if len(contacts) and int(np.min(contacts)) == 0:
+            problems.append("no tooth pair is in contact somewhere in the motion: the driven gear would jump")
+        return out, problems
+
+    def transitions(self) -> list[dict]:
+        """Each dwell/motion boundary: what the law asks (speed and acceleration jumps, per unit
+        driver speed) and where the entry contact is on the cut gears."""
+        out = []
+        for t in self.pair.law.transitions():
+            out.append(
+                {
+                    "driver_deg": round(t.at_deg, 6),
+                    "kind": t.kind,
+                    "speed_jump_w2_per_w1": significant(t.speed_jump),
+                    "acceleration_jump_per_w1_squared": significant(t.accel_jump),
+                }
+            )
+        return out
+
+    def entry_contacts(self, driver: shapely.Polygon, driven: shapely.Polygon) -> list[dict]:
+        """Where each motion's first tooth contact is: the driven held at its dwell angle while the
+        driver turns on, the first driver angle (bisection to 1e-6 deg) at which the driver's teeth
+        (not its locking arc) touch it, and the contact's radius on each gear below its tip."""
+        pair, m = self.pair, self.module
+        a = pair.centre_distance
+        centre = a if pair.mesh == "external" else -a
+        out = []
+        arc = self.gears.locks
+        for dwell, lock in zip(pair.law.dwells, arc, strict=True):
+            psi = float(pair.law.psi(np.radians([dwell.start + 1e-9]))[0])
+            turn2 = math.pi + psi if pair.mesh == "external" else -psi
+            held = shapely.affinity.translate(
+                shapely.affinity.rotate(driven, turn2, origin=(0, 0), use_radians=True), centre, 0.0
+            )
+            teeth = shapely.difference(driver, shapely.Point(0, 0).buffer(lock.radius - 1e-4, quad_segs=256))
+
+            def gap(phi: float) -> float:
+                return float(held.distance(shapely.affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True)))
+
+            lo, hi = math.radians(dwell.start), math.radians(dwell.end) + math.radians(30.0)
+            if gap(hi) > 0:
+                out.append({"dwell_deg": [dwell.start, dwell.end], "entry": "no tooth reaches the held driven gear"})
+                continue
+            for _ in range(40):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (mid, hi) if gap(mid) > 0 else (lo, mid)
+            posed = shapely.affinity.rotate(teeth, -hi, origin=(0, 0), use_radians=True)
+            p1, p2 = shapely.ops.nearest_points(posed, held)
+            r1 = math.hypot(p1.x, p1.y)
+            r2 = math.hypot(p2.x - centre, p2.y)
+            near = shapely.Point(p1.x, p1.y).buffer(2.5 * m)  # the teeth around the contact
+            tip1 = float(np.linalg.norm(shapely.get_coordinates(shapely.intersection(posed, near)), axis=1).max())
+            local = shapely.get_coordinates(shapely.intersection(held, near)) - (centre, 0.0)
+            d2 = np.linalg.norm(local, axis=1)
+            tip2 = float(d2.max()) if pair.mesh == "external" else float(d2.min())
+            below1, below2 = (tip1 - r1) / m, abs(tip2 - r2) / m
+            out.append(
+                {
+                    "dwell_deg": [dwell.start, dwell.end],
+                    "first_contact_driver_deg": round(math.degrees(hi) % 360, 4),
+                    "after_dwell_end_deg": round(math.degrees(hi) - dwell.end, 4),
+                    "driver_radius_below_tip_m": round(below1, 4),
+                    "driven_radius_from_tip_m": round(below2, 4),
+                    "tip_on_tip": bool(below1 < TIP_BAND and below2 < TIP_BAND),
+                }
+            )
+        return out
+
+    # -- build and check -------------------------------------------------------------------------
+
+    def parameters(self) -> dict:
+        pair, tool, g = self.pair, self.tool, self.gears
+        return {
+            "law": pair.law.describe(),
+            "mesh": pair.mesh,
+            "module_mm": rounded(self.module, 12),
+            "centre_distance_mm": rounded(pair.centre_distance, 9),
+            "pitches_rolled_per_turn": rounded(sum(pair.sector_lengths()) / (math.pi * self.module), 6),
+            "driven_turns_per_driver_turn": f"1/{pair.law.turn_fraction}",
+            "cutter": {"kind": type(tool).__name__, "teeth": getattr(tool, "teeth", None)},
+            "backlash_mm": rounded(self.design_backlash, 6),
+            "backlash_band_mm": [rounded(v, 6) for v in self.band],
+            "lock_clearance_mm": rounded(g.locks[0].clearance, 6),
+            "locking_play_deg": self.max_play_deg,
+            "tolerance_mm": self.tolerance,
+            "addendum": self.addendum,
+        }
+
+    def _outlines(self) -> dict[str, bytes]:
+        g = self.gears
+        return {f"{self.name}.{role}.outline.csv": formats.CSV.write(gear.toothed_contour) for role, gear in zip(ROLES, g.gears, strict=True)}
+
+    def _proof(self, reports: dict) -> tuple[dict, list[str]]:
+        readable, unreadable, problems = formats.split_unreadable(reports)
+        results: dict = dict(unreadable)
+        for source, rep in sorted(readable.items()):
+            res, found = self.judge(rep)
+            res["problems"] = found
+            results[source] = res
+            problems += [f"{source}: {p}" for p in found]
+        return results, problems
+
+    def build(self, out: Path) -> Built:
+        """Cut, prove on the outlines, make the shop files, prove on the DXF and STL re-read, and
+        assemble (module docstring)."""
+        g, pair = self.gears, self.pair
+        files = self._outlines()
+        results: dict = {
+            "locks": [
+                {
+                    "dwell_deg": list(lk.dwell_deg),
+                    "driver_arc_radius_mm": rounded(lk.radius, 6),
+                    "driven_arc_radius_mm": rounded(lk.radius + lk.clearance, 6),
+                    "horns_half_angle_deg": rounded(lk.horn_deg, 4),
+                    "nominal_play_each_way_deg": rounded(lk.nominal_play_deg, 5),
+                }
+                for lk in g.locks
+            ],
+            "relief": list(g.relief),
+            "transitions": self.transitions(),
+            "teeth": {role: gear.teeth for role, gear in zip(ROLES, g.gears, strict=True)},
+            "driver_sectors_deg": [list(s) for s in g.driver.sectors_deg],
+        }
+        reports = self.meshed(files, ("outline",))
+        meshing, problems = self._proof(reports)
+        if problems:
+            raise GeometryError(f"{self.name}: the cut sectors do not mesh: " + "; ".join(problems))
+        if self.making is not None:
+            made_files, parts, marks = self._make()
+            files.update(made_files)
+            reports.update(self.meshed(files, ("dxf", "stl")))
+            meshing, problems = self._proof(reports)
+            if problems:
+                raise GeometryError(f"{self.name}: the made parts do not mesh: " + "; ".join(problems))
+            results["assembly"], more = self._assemble(parts, marks, reports["dxf"], files)
+            files.update(more)
+            sections = [formats.section_of(f"{self.name}.{r}.dxf", files[f"{self.name}.{r}.dxf"], i) for r, i in zip(ROLES, (False, pair.mesh == "internal"), strict=True)]
+            results["entry"] = self.entry_contacts(*sections)
+        else:
+            results["entry"] = self.entry_contacts(g.driver.polygon, g.driven.polygon)
+        tip_on_tip = [e for e in results["entry"] if e.get("tip_on_tip")]
+        if tip_on_tip:
+            raise GeometryError(f"{self.name}: the first tooth contact after a dwell is tip on tip: {tip_on_tip[0]}")
+        results["meshing"] = meshing
+        files.update(plots.figure_files(self._figure(reports), f"{self.name}.motion"))
+        fig = plots.toothed_pair_figure(
+            g.driver.polygon, g.driven.polygon, pair.centre_distance, pair.mesh == "external", float(pair.driver.r(0.0)), self.name
+        )
+        files.update(plots.figure_files(fig, f"{self.name}.teeth"))
+        files[f"{self.name}.teeth.json"] = json_bytes({"parameters": self.parameters(), "results": results})
+        return Built({"kind": "incomplete_pair", "parameters": self.parameters(), "results": results}, files)
+
+    def _make(self):
+        g = self.gears
+        files, parts, marks = {}, {}, {}
+        for k, (role, gear) in enumerate(zip(ROLES, g.gears, strict=True)):
+            m = self.making[k]
+            mark = pair_assembly.timing_mark(gear, m.features)
+            features = (
+                dataclasses.replace(m.features, notches=(mark,))
+                if gear.internal
+                else dataclasses.replace(m.features, holes=(*m.features.holes, mark))
+            )
+            m = dataclasses.replace(m, features=features, tolerance=self.tolerance, step=False)
+            notes = (
+                f"incomplete {'ring' if gear.internal else 'gear'}: {gear.teeth} teeth on toothed sectors, module "
+                f"{self.module:.6g} mm, face width {m.width:g} mm",
+                f"mates with {self.name}.{ROLES[1 - k]}, {self.pair.mesh} mesh, centre distance "
+                f"{self.pair.centre_distance:.4f} mm; law: {self.pair.law.describe()}",
+                f"backlash {self.design_backlash:.4f} mm on the teeth; locking arcs {g.locks[0].radius:.4f} / "
+                f"{g.locks[0].radius + g.locks[0].clearance:.4f} mm about the driver's axis",
+                f"timing mark: {'notch' if gear.internal else 'hole'} dia {mark[2]:.2f} mm at +x meets the mate's at the start",
+            )
+            res, shop, part = manufacture(
+                f"{self.name}.{role}", gear.blank, gear.cut, m, notes, lambda pt, gg=gear: f"tooth space {gg.nearest_space(pt)}",
+                marks=((mark[0], mark[1], "TIMING"),),
+            )
+            files.update(shop)
+            parts[role] = part
+            marks[role] = mark
+        return files, parts, marks
+
+    def _assemble(self, parts: dict, marks: dict, dxf_report, made: dict[str, bytes]) -> tuple[dict, dict[str, bytes]]:
+        pair = self.pair
+        external = pair.mesh == "external"
+        centre = pair.centre_distance if external else -pair.centre_distance
+        turn = 180.0 if external else 0.0
+        placed = [
+            (f"{self.name}.driver", parts["driver"], formats.placement()),
+            (f"{self.name}.driven", parts["driven"], formats.placement(centre, 0.0, 0.0, math.radians(turn))),
+        ]
+        record, files = assembly_file(self.name, placed)
+        steps = {role: step_file(parts[role], files) for role in ROLES}
+        phi = 2 * math.pi * np.arange(pair_assembly.MOTION_ROWS + 1) / pair_assembly.MOTION_ROWS
+        sense = 1.0 if external else -1.0
+        rows = [
+            [f"{math.degrees(a):.4f}", f"{math.degrees(b):.9f}", "dwell" if not mv else "motion"]
+            for a, b, mv in zip(phi, sense * pair.law.psi(phi), pair.moving(phi), strict=True)
+        ]
+        files[f"{self.name}.motion.csv"] = csv_bytes(["driver_clockwise_deg", "driven_counterclockwise_deg", "phase"], rows)
+        files[f"{self.name}.dxf_meshing.csv"] = pair_assembly.meshing_csv(dxf_report)
+        files[f"{self.name}.assembly.dxf"] = formats.DXF.assembly(
+            self.name,
+            [
+                (f"{self.name}.driver", made[f"{self.name}.driver.dxf"], (0.0, 0.0, 0.0)),
+                (f"{self.name}.driven", made[f"{self.name}.driven.dxf"], (centre, 0.0, math.radians(turn))),
+            ],
+            (f"centre distance {pair.centre_distance:.4f} mm; driver turns clockwise", f"law: {pair.law.describe()}"),
+        )
+        return {
+            "kind": pair.mesh,
+            "driver": f"{self.name}.driver",
+            "driven": f"{self.name}.driven",
+            "centre_distance_mm": rounded(pair.centre_distance, 9),
+            "driven_centre_mm": [rounded(centre, 9), 0.0],
+            "driven_angle_at_start_deg": turn,
+            "driver_turns": "clockwise",
+            "driven_turns": "counter-clockwise" if external else "clockwise",
+            "timing_marks_mm": {role: [rounded(x, 6), rounded(y, 6)] for role, (x, y, _) in marks.items()},
+            "model": record,
+            "step": steps,
+            "motion": f"{self.name}.motion.csv",
+            "drawing": f"{self.name}.assembly.dxf",
+        }, files
+
+    def check(self, files: dict[str, bytes]) -> Checked:
+        """Re-run the proof on the DXF and STL as found, and re-read the STEP and 3MF."""
+        reports = self.meshed(files, ("dxf", "stl") if self.making is not None else ("outline",))
+        results, problems = self._proof(reports)
+        if self.making is not None:
+            widths = {f"{self.name}.{role}": m.width for role, m in zip(ROLES, self.making, strict=True)}
+            made, more = check_shop_files(files, widths, (f"{self.name}.assembly.3mf", [f"{self.name}.driver", f"{self.name}.driven"]))
+            results["made"] = made
+            problems += more
+        return Checked(results, problems)
+
+    def _figure(self, reports: dict):
+        pair = self.pair
+        phi = np.radians(np.linspace(0.0, 360.0, 1441))
+        curves = {}
+        for source, rep in reports.items():
+            if isinstance(rep, str):
+                continue
+            angle, play = rep.samples("backlash")
+            r2 = np.abs(pair.driver.r(angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance))
+            curves[source] = (np.degrees(angle), np.degrees(play / r2))
+        dwells = [(d.start, d.end) for d in pair.law.dwells]
+        return plots.intermittent_figure(
+            self.name,
+            np.degrees(phi),
+            np.degrees(pair.law.psi(phi)),
+            pair.law.ratio(phi),
+            dwells,
+            curves,
+            self.max_play_deg,
+        )
