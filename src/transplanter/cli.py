@@ -300,7 +300,9 @@ def _cmd_pair(args: argparse.Namespace) -> int:
 
     names = ("internal", "teeth", "module", "centre_distance", "driven_lobes", "ring", "backlash", "cutter_teeth")
     names += ("scale_to_close", "addendum", "shift", "trim_ring_tips", "allow_undercut")
+    names += ("lock_clearance", "lock_depth", "locking_play")
     options = {k: getattr(args, k) for k in (*names, "rack", "width", "name")}
+    options = {k: v for k, v in options.items() if v is not None or k not in ("lock_depth", "locking_play")}
     manifest = gear_pair(args.transmission, args.output, **options)
     folder = Path(args.output) / manifest["family"]
     print(manifest["description"])
@@ -308,6 +310,8 @@ def _cmd_pair(args: argparse.Namespace) -> int:
     if "error" in rec:
         print(f"FAILED -> {folder}\n  error: {rec['error']}", file=sys.stderr)
         return 1
+    if rec.get("kind") == "incomplete_pair":
+        return _print_incomplete(rec, folder)
     asm = rec["results"]["assembly"]
     print(
         f"  centre distance {asm['centre_distance_mm']:.6f} mm; driven axis at {asm['driven_centre_mm']} mm in the "
@@ -315,6 +319,45 @@ def _cmd_pair(args: argparse.Namespace) -> int:
     )
     for source, r in sorted((k, v) for k, v in rec["results"]["meshing"].items() if isinstance(v, dict)):
         print(f"  meshing [{source}]: {_mesh_line(r)}")
+    shop = [f for f in rec["files"] if f.endswith((".dxf", ".stl", ".step", ".3mf"))]
+    print(f"  shop files: {', '.join(shop)}")
+    print(f"ok -> {folder} (report.html)")
+    return 0
+
+
+def _print_incomplete(rec: dict, folder: Path) -> int:
+    """What ``pair`` says of an incomplete pair: locks, entry shocks and the proof per phase."""
+    res = rec["results"]
+    asm = res["assembly"]
+    print(
+        f"  centre distance {asm['centre_distance_mm']:.6f} mm; driven axis at {asm['driven_centre_mm']} mm in the "
+        f"driver's DXF frame, turned {asm['driven_angle_at_start_deg']:g} deg at the start"
+    )
+    for lock in res["locks"]:
+        print(
+            f"  dwell {lock['dwell_deg'][0]:g}..{lock['dwell_deg'][1]:g} deg: locking arcs {lock['driver_arc_radius_mm']:.4f} / "
+            f"{lock['driven_arc_radius_mm']:.4f} mm, horns at +/-{lock['horns_half_angle_deg']:.1f} deg"
+        )
+    for t in res["transitions"]:
+        print(
+            f"  {t['kind']} at driver {t['driver_deg']:g} deg: driven speed jumps by {t['speed_jump_w2_per_w1']:.4g} x the "
+            f"driver's, acceleration by {t['acceleration_jump_per_w1_squared']:.4g} x w1^2"
+        )
+    for e in res["entry"]:
+        if "first_contact_driver_deg" in e:
+            print(
+                f"  first tooth contact after the dwell at driver {e['first_contact_driver_deg']:.3f} deg "
+                f"({e['after_dwell_end_deg']:+.3f} deg from the law's), {e['driver_radius_below_tip_m']:.2f} m below the "
+                f"driver's tip, {e['driven_radius_from_tip_m']:.2f} m from the driven's"
+            )
+    for source, r in sorted((k, v) for k, v in res["meshing"].items() if isinstance(v, dict)):
+        parts = []
+        if "motion" in r:
+            parts.append(f"motion free play {_fmt_um(r['motion']['free_play_mm'][0])}..{_fmt_um(r['motion']['free_play_mm'][1])}")
+        for phase in ("dwell", "transition"):
+            if phase in r:
+                parts.append(f"{phase} play <= {r[phase]['largest_play_deg']:.3f} deg")
+        print(f"  meshing [{source}]: overlap {r['max_penetration_mm2']:.3g} mm², " + ", ".join(parts))
     shop = [f for f in rec["files"] if f.endswith((".dxf", ".stl", ".step", ".3mf"))]
     print(f"  shop files: {', '.join(shop)}")
     print(f"ok -> {folder} (report.html)")
@@ -455,7 +498,9 @@ def _main(argv: list[str] | None = None) -> int:
         help="one gear pair from a transmission ratio: shop files, meshing proof and report",
         description="A gear pair from its transmission: an expression in phi (the driven angle, rad, "
         'e.g. "phi - 0.08*sin(2*phi)"), a CSV of ratio samples (driver angle deg, w2/w1), or a named '
-        "driver curve (ellipse:E[:LOBES], eccentric:E). Give two of --teeth, --module, --centre-distance.",
+        "driver curve (ellipse:E[:LOBES], eccentric:E). Give two of --teeth, --module, --centre-distance. "
+        'A law with dwells ("0..60: dwell; 60..360: EXPR", or a CSV whose zero rows are dwells) makes an '
+        "incomplete pair: toothed sectors, locking arcs; give --module and --teeth or --centre-distance.",
     )
     p.add_argument("transmission", help="expression in phi, ratio CSV file, or NAME:PARAMS")
     p.add_argument("--teeth", type=int, help="driver tooth count")
@@ -490,6 +535,17 @@ def _main(argv: list[str] | None = None) -> int:
         "--scale-to-close",
         action="store_true",
         help="scale a ratio that does not close by the factor that closes it (default: refuse it, naming the factor)",
+    )
+    p.add_argument("--lock-clearance", type=float, help="incomplete pairs: the locks' radial clearance, mm")
+    p.add_argument(
+        "--lock-depth",
+        type=float,
+        help="incomplete pairs: how deep the driver's locking arc reaches into the driven's tips, modules (default 0.15)",
+    )
+    p.add_argument(
+        "--locking-play",
+        type=float,
+        help="incomplete pairs: the driven's free play allowed in dwells and transitions, deg (default 2)",
     )
     p.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")
     for command in (b, a, o, c):

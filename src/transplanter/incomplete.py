@@ -49,7 +49,7 @@ from transplanter.pitch.periodic import PeriodicSpline
 from transplanter.pair_gate import per_gear
 from transplanter.teeth import generate, require_cutter
 
-__all__ = ["SectorGear", "Lock", "IncompleteGears", "cut_incomplete", "virtual_curve", "LOCK_ADDENDUM"]
+__all__ = ["SectorGear", "Lock", "IncompleteGears", "cut_incomplete", "virtual_curve", "sector_pitches", "LOCK_DEPTH"]
 
 #: samples per degree of a sector's true pitch curve in its virtual closed curve
 CURVE_SAMPLES_PER_DEG = 8
@@ -64,10 +64,10 @@ TRANSITION_PITCHES = 2.5
 #: the driven's cutter spaces end this many pitches beyond the lock's horns (negative: within the
 #: concave arc's span, their tops then cut by it)
 LOCK_ZONE_PITCHES = -0.5
-#: the locking arc's radius above the larger end pitch radius (modules); the driver's teeth that
-#: pass the lock zone are relieved to it (None: the arc at their tips, no relief — the stopped
-#: driven then loses the teeth under the tips' sweep and the transitions go unguided)
-LOCK_ADDENDUM = 0.3
+#: how far the driver's locking arc reaches into the driven's tips on the line of centres, modules:
+#: a shallow arc keeps the driven's entry and exit teeth out of the pocket it sweeps (the lock's
+#: lever, the horns' half-angle, grows as its square root)
+LOCK_DEPTH = 0.3
 #: the inside-corner radius the gears are given where sectors meet locking arcs and where the
 #: sweep leaves corners: a 0.25 mm wire with its 0.02 mm spark gap, and a margin (mm)
 CORNER_RADIUS_MM = 0.16
@@ -205,10 +205,50 @@ def _rot(points: np.ndarray, angle) -> np.ndarray:
     return np.stack([c * points[..., 0] - s * points[..., 1], s * points[..., 0] + c * points[..., 1]], axis=-1)
 
 
-def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, addendum: float, zone=(0.0, 0.0)):
-    """The toothed sector of ``motion`` on the ``role`` gear: teeth of the driver centred on the
-    motion's roll, spaces of the driven where driver teeth meet them, ``zone`` (mm of roll at the
-    motion's start and end) kept clear of driven spaces for the lock."""
+def _path(pair: IncompletePair, motion: Motion, cutter: Cutter, addendum, end: bool) -> tuple[float, float]:
+    """(approach, recess) of the path of contact at the motion's start or ``end``, as pitch-curve
+    roll (mm): the osculating circles of the two pitch curves there, involute teeth of the
+    cutter's pressure angle, the driven's tip entering and the driver's leaving."""
+    at = np.radians([motion.end if end else motion.start])
+    r1, r2 = float(pair.r1(at, motion=motion)[0]), float(pair.r2(at, motion=motion)[0])
+    alpha, m = cutter.pressure_angle, cutter.module
+    c = math.cos(alpha)
+    recess = math.sqrt((r1 + addendum[0] * m) ** 2 - (r1 * c) ** 2) - r1 * math.sin(alpha)
+    if pair.mesh == "external":
+        approach = math.sqrt((r2 + addendum[1] * m) ** 2 - (r2 * c) ** 2) - r2 * math.sin(alpha)
+    else:  # the ring's tips are inside its pitch curve
+        approach = r2 * math.sin(alpha) - math.sqrt(max((r2 - addendum[1] * m) ** 2 - (r2 * c) ** 2, 0.0))
+    return approach / c, recess / c
+
+
+def sector_pitches(pair: IncompletePair, motion: Motion, cutter: Cutter, addendum, length: float) -> float:
+    """How many pitches apart the first and the last tooth of ``motion``'s sector should be for its
+    first pair's contact to begin as the motion begins and its last pair's to end as it ends: the
+    first tooth's centre ``approach + p/4`` of roll ahead of the pitch point at the start (its driving
+    flank a quarter pitch downstream of its centre), the last ``recess - p/4`` past it at the end;
+    a whole number fits exactly."""
+    pitch = math.pi * cutter.module
+    approach, _ = _path(pair, motion, cutter, addendum, end=False)
+    _, recess = _path(pair, motion, cutter, addendum, end=True)
+    return (length - recess - approach) / pitch
+
+
+def _tooth_centres(pair: IncompletePair, motion: Motion, cutter: Cutter, addendum, length: float) -> np.ndarray:
+    """Roll positions (mm from the motion's start) of the driver's tooth centres: the first pair's
+    contact begins as the motion begins (its driving flank at the start of the path of contact),
+    the teeth a pitch apart, as many as fit best (:func:`sector_pitches`; the last pair leaves up
+    to half a pitch before or after the motion's end: after, the dwell's sweep relieves it)."""
+    pitch = math.pi * cutter.module
+    approach, _ = _path(pair, motion, cutter, addendum, end=False)
+    count = max(1, round(sector_pitches(pair, motion, cutter, addendum, length)) + 1)
+    return approach + pitch / 4 + pitch * np.arange(count)
+
+
+def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, addendum, zone=(0.0, 0.0)):
+    """The toothed sector of ``motion`` on the ``role`` gear: the driver's teeth phased by the
+    path of contact at the motion's ends (:func:`_tooth_centres`), the driven's spaces where they
+    meet them; ``zone`` (mm of roll at the motion's start and end) left to the closing bridge of
+    the driven's virtual curve."""
     m = cutter.module
     pitch = math.pi * m
     a, b = math.radians(motion.start), math.radians(motion.end)
@@ -217,14 +257,11 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
     speed = np.hypot(r1, dr1)
     u = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))])  # rolled arc, mm
     length = float(u[-1])
-    half = math.floor(length / 2 / pitch) + 2
-    j = np.arange(-half, half + 1)
+    centres = _tooth_centres(pair, motion, cutter, addendum, length)
     internal = role == "driven" and pair.mesh == "internal"
     if role == "driver":
         lobes, sigma = 1, 1.0
         theta, r, dr = phi, r1, dr1
-        centres = length / 2 + j * pitch  # teeth centred on the motion's roll
-        centres = centres[(centres >= -0.25 * pitch) & (centres <= length + 0.25 * pitch)]
         space_u = np.concatenate([centres - pitch / 2, [centres[-1] + pitch / 2]])
         teeth = len(centres)
         keep = np.ones(len(phi), dtype=bool)
@@ -234,11 +271,10 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
         theta = sigma * pair.psi_in(motion, phi)
         r = pair.r2(phi, motion=motion)
         dr = (-dr1 if pair.mesh == "external" else dr1) / (sigma * motion.ratio(phi))
-        space_u = length / 2 + j * pitch  # a driven space where each driver tooth meets it
-        space_u = space_u[(space_u >= zone[0]) & (space_u <= length - zone[1])]
+        space_u = centres  # a driven space where each driver tooth meets it
         teeth = max(0, len(space_u) - 1)
-        # the true curve off the lock zones: the bridge smooths the radius's jump between motions
-        keep = (u >= min(zone[0], 0.5 * pitch)) & (u <= length - min(zone[1], 0.5 * pitch))
+        # a quarter pitch at each end left to the bridge, which smooths a jump of radius between motions
+        keep = (u >= zone[0]) & (u <= length - zone[1])
     if len(space_u) < 2:
         raise GeometryError(
             f"the motion {motion.start:g}..{motion.end:g} deg rolls {length:.4g} mm: too short for a toothed sector "
@@ -250,12 +286,15 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
     period = 2 * math.pi / lobes
     origin = float(th[0]) - (period - float(th[-1] - th[0])) / 2  # the seam mid-bridge
     curve = virtual_curve(th - origin, rr, (float(d[0]), float(d[-1])), period)
-    at = np.interp(space_u, u, phi)  # driver angle where each space centre rolls through
-    body = sigma * pair.psi_in(motion, at) if role == "driven" else at
-    s = np.sort(curve.arc_length(np.mod(body - origin, period)))
+    # along the virtual curve from a kept sample, a pitch apart: beyond the motion's ends the teeth
+    # run on along the bridge (the last may leave after the end; the dwell's sweep relieves it)
+    k0 = int(np.flatnonzero(keep)[0])
+    body0 = sigma * float(pair.psi_in(motion, phi[k0:k0 + 1])[0]) if role == "driven" else float(phi[k0])
+    s0 = float(curve.arc_length(np.array([np.mod(body0 - origin, period)]))[0])
     lobe_length = curve.perimeter / lobes
+    s = np.sort(s0 + sigma * (space_u - u[k0]))  # the frame wraps: no seam to cross
     spaces = np.concatenate([s + k * lobe_length for k in range(lobes)])
-    gear = generate(curve, cutter, None, internal=internal, addendum=addendum, spaces=spaces)
+    gear = generate(curve, cutter, None, internal=internal, addendum=addendum[0 if role == "driver" else 1], spaces=spaces)
     points = np.array([sp.pitch_point for sp in gear.spaces])
     normals = np.array([sp.normal for sp in gear.spaces])
     tip = gear.removed[0] if internal else gear.blank
@@ -294,19 +333,6 @@ def _roll_angle(pair: IncompletePair, motion: Motion, distance: float, from_end:
     d = min(distance, float(u[-1]))
     at = float(np.interp(u[-1] - d if from_end else d, u, phi))
     return float(phi[-1] - at) if from_end else float(at - phi[0])
-
-
-def _end_tips(pair: IncompletePair, before: Motion, after: Motion, module: float, addendum: float, angle: float) -> float:
-    """The largest tip radius of the driver's teeth within ``angle`` (rad of driver turn) of the
-    dwell between ``before`` and ``after``: the teeth that pass its lock zone while the driven
-    stands still."""
-    out = 0.0
-    for motion, end in ((before, True), (after, False)):
-        a, b = math.radians(motion.start), math.radians(motion.end)
-        phi = np.linspace(a, b, 2001)
-        near = (phi >= b - angle) if end else (phi <= a + angle)
-        out = max(out, float(pair.r1(phi[near], motion=motion).max()))
-    return out + addendum * module
 
 
 def _horns(a: float, radius: float, tip: float) -> tuple[float, float]:
@@ -398,8 +424,7 @@ def _sweep(driver: shapely.Polygon, pair: IncompletePair, dwell: tuple[float, fl
     on_arc = np.abs(np.linalg.norm(arc, axis=1) - lock.radius) < 1e-6
     ang = np.unwrap(np.arctan2(arc[on_arc, 1], arc[on_arc, 0])) if on_arc.any() else np.zeros(1)
     lo, hi = float(ang.min()) - dwell[1], float(ang.max()) - dwell[0]  # world angles the arc covers
-    reach_deg = math.radians(lock.horn_deg) + math.radians(LOCK_MARGIN_DEG)
-    annular = on_arc.any() and lo <= -reach_deg and hi >= reach_deg
+    annular = False  # the teeth stand above the arc: swept pose by pose
     spans = [(window[0], dwell[0]), (dwell[1], window[1])] if annular else [(window[0], window[1])]
     step = math.radians(SWEEP_STEP_DEG)
     contours: list[np.ndarray] = []
@@ -445,7 +470,7 @@ def cut_incomplete(
     *,
     addendum: float | tuple[float, float] = 1.0,
     lock_clearance: float | None = None,
-    lock_addendum: float | None = LOCK_ADDENDUM,
+    lock_depth: float = LOCK_DEPTH,
     corner_radius: float = CORNER_RADIUS_MM,
 ) -> IncompleteGears:
     """Both gears of the incomplete ``pair`` cut by ``cutter`` (module docstring).
@@ -454,9 +479,7 @@ def cut_incomplete(
     half of it, ``cutter.thickening``); ``lock_clearance`` (mm, default 0.4 of the backlash: the
     sweep then stays off the flanks of teeth in mesh) is the radial clearance of the locking
     arcs and the growth of the relief sweep. The driver's locking arc's
-    radius is the largest tip radius of the teeth that pass its lock zone, or with ``lock_addendum``
-    (modules) the larger end pitch radius plus that much — the teeth that pass the lock zone are
-    then relieved to the arc (tip relief, stated in ``relief``: less of the lock zone is lost);
+    radius reaches ``lock_depth`` (modules) into the driven's tips on the line of centres;
     ``corner_radius`` (mm) the wire's reach: the inside corners where a sector meets its locking
     arc, and those the sweep leaves in the driven, are given it as the wire leaves them (the
     proof then judges the gears as cut).
@@ -474,36 +497,28 @@ def cut_incomplete(
     tool = replace(cutter, thickening=backlash / 4) if backlash else cutter
     motions = pair.law.motions
     dwells = _dwells(pair)
-    # the locks first: their horns set how far the driven's spaces stay from each dwell
+    # the locks: the driver's arc reaches ``lock_depth`` into the driven's tips on the line of
+    # centres; its horns, where the concave arc meets the tips, set the lever that holds the driven
     locks, zones = [], [[0.0, 0.0] for _ in motions]
-    radii, reaches = [], []
+    radii = []
     for dwell, before, after in dwells:
-        # the arc clears the tips of every tooth that passes the lock zone while the driven stands
-        # still: the zone's half-angle seen from the driver's axis, and the tips, found together
-        r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
-        tip2 = r2b + add2 * m if ext else r2b - add2 * m
-        reach = TRANSITION_PITCHES * math.pi * m / r2b
-        ends = np.concatenate(
-            [pair.r1(np.radians([mo.end if k == 0 else mo.start]), motion=mo) for k, mo in enumerate((motions[before], motions[after]))]
+        r2b = 0.5 * float(
+            pair.r2(np.radians([motions[before].end]), motion=motions[before])[0]
+            + pair.r2(np.radians([motions[after].start]), motion=motions[after])[0]
         )
-        for _ in range(4):
-            if lock_addendum is not None:  # the end teeth are relieved to the arc (below)
-                r_lock = float(ends.max()) + lock_addendum * m
-            else:
-                r_lock = _end_tips(pair, motions[before], motions[after], m, add1, reach)
-            check_number("lock radius", r_lock, 0.0, low_open=True, unit="mm")
-            beta, alpha = _horns(a, r_lock + c, tip2)
-            reach = max(reach, (beta if ext else math.pi - beta) + math.radians(LOCK_MARGIN_DEG))
+        tip2 = r2b + add2 * m if ext else r2b - add2 * m
+        r_lock = (a - tip2 if ext else tip2 - a) + lock_depth * m
+        check_number("lock radius", r_lock, 0.0, low_open=True, unit="mm")
+        beta, alpha = _horns(a, r_lock + c, tip2)
         lever = beta if ext else math.pi - beta
-        zone = max(0.5 * math.pi * m, alpha * r2b + LOCK_ZONE_PITCHES * math.pi * m)
+        zone = alpha * r2b + TRANSITION_PITCHES * math.pi * m  # the roll whose teeth pass the lock zone
         zones[before][1], zones[after][0] = zone, zone
         play = math.degrees(c / (a * abs(math.sin(lever))))
         locks.append(Lock((dwell.start, dwell.end), r_lock, c, math.degrees(lever), play))
         radii.append(r_lock)
-        reaches.append(reach)
     pair = IncompletePair(pair.law, a, pair.mesh, tuple(radii))
     # the driver: each sector between its outermost space centres, a locking sector over each dwell
-    drv = [_sector(pair, tool, mo, "driver", add1) for mo in motions]
+    drv = [_sector(pair, tool, mo, "driver", (add1, add2)) for mo in motions]
     far = 2 * float(max(g.tip.bounds[2] for g in drv)) + 10 * m
     edges = [
         (_edge_line(s.points[0], s.normals[0], m, far), _edge_line(s.points[-1], s.normals[-1], m, far)) for s in drv
@@ -516,16 +531,7 @@ def cut_incomplete(
     for (_dwell, before, after), r_lock in zip(dwells, radii, strict=True):
         disc = shapely.Point(0.0, 0.0).buffer(r_lock, quad_segs=max(64, int(math.pi * r_lock / 0.05)))
         blank.append(shapely.intersection(disc, _between(edges[before][1], edges[after][0], far)))
-    d_body = shapely.difference(shapely.union_all(blank), shapely.union_all(removed))
-    end_relief = []
-    if lock_addendum is not None:  # tip relief: the teeth that pass a lock zone cut to its arc
-        for (dwell, _b, _a), r_lock, reach in zip(dwells, radii, reaches, strict=True):
-            lo, hi = math.radians(dwell.start) - reach, math.radians(dwell.end) + reach
-            beyond = shapely.difference(_radial(lo, hi, far), shapely.Point(0, 0).buffer(r_lock, quad_segs=256))
-            trimmed = shapely.intersection(d_body, beyond)
-            d_body = shapely.difference(d_body, beyond)
-            end_relief.append((dwell, float(trimmed.area), _depth(trimmed, r_lock)))
-    d_body = _wire_cut(d_body, corner_radius)
+    d_body = _wire_cut(shapely.difference(shapely.union_all(blank), shapely.union_all(removed)), corner_radius)
     if not isinstance(d_body, shapely.Polygon):
         raise GeometryError(f"the driver's sectors and locking arcs do not join into one part ({d_body.geom_type})")
     driver = SectorGear(
@@ -542,7 +548,8 @@ def cut_incomplete(
         ),
     )
     # the driven: each motion's spaces off the lock zones, then what the driver sweeps through it
-    drn = [_sector(pair, tool, mo, "driven", add2, tuple(zones[k])) for k, mo in enumerate(motions)]
+    bridge = (0.25 * math.pi * m, 0.25 * math.pi * m)
+    drn = [_sector(pair, tool, mo, "driven", (add1, add2), bridge) for mo in motions]
     lobes = pair.law.turn_fraction
     if len(motions) == 1:
         pieces = [(drn[0], None)]
@@ -600,9 +607,6 @@ def cut_incomplete(
         r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
         relieved = shapely.intersection(pre, sw)
         relief.append(_relief(relieved, n_body, dwell, chi, zones[before][1] / r2b, r_out, lobes))
-        for d, area, depth in end_relief:
-            if d is dwell:
-                relief[-1] |= {"driver_tips_relieved_mm2": round(area, 6), "driver_tip_relief_depth_mm": round(depth, 6)}
     driven = SectorGear(
         n_body,
         *_made_of(n_body),
@@ -614,12 +618,6 @@ def cut_incomplete(
         (),
     )
     return IncompleteGears(pair, driver, driven, tuple(locks), tuple(relief), backlash, tuple(map(tuple, zones)))
-
-
-def _depth(region, radius: float) -> float:
-    """How far ``region`` reaches beyond the circle of ``radius`` (mm; 0 if empty)."""
-    pts = shapely.get_coordinates(region)
-    return float(np.linalg.norm(pts, axis=1).max() - radius) if len(pts) else 0.0
 
 
 def _made_of(body: shapely.Polygon) -> tuple[shapely.Polygon, shapely.Geometry]:

@@ -298,7 +298,7 @@ def generate(
         at the curve's start (a mating gear takes the other).
     spaces : array or None
         A **toothed sector** (incomplete gears, :mod:`transplanter.incomplete`): the arc lengths
-        (mm, increasing, less than a turn apart) of the only tooth-space centres to cut, one
+        (mm, increasing, spanning less than a turn less 1.5 pitches) of the only tooth-space centres to cut, one
         circular pitch ``π m`` apart; the rest of the curve is left as the blank, so the
         perimeter need not be a whole number of teeth and ``teeth`` is the number of spaces.
     """
@@ -323,8 +323,12 @@ def generate(
     tolerance = check_number("tolerance", tolerance, 1e-6, 0.1, unit="mm")
     phase = check_number("phase", phase, -1e6, 1e6)
     perimeter = curve.perimeter
-    if sector and (spaces[-1] - spaces[0] > perimeter - 2 * math.pi * m):
-        raise SpecError.out_of_range("the toothed sector's span", float(spaces[-1] - spaces[0]), f"< the perimeter less two pitches ({perimeter - 2 * math.pi * m:.6g} mm)")
+    if sector and (spaces[-1] - spaces[0] > perimeter - 1.5 * math.pi * m):
+        raise SpecError.out_of_range(
+            "the toothed sector's span",
+            float(spaces[-1] - spaces[0]),
+            f"< the perimeter less one and a half pitches ({perimeter - 1.5 * math.pi * m:.6g} mm)",
+        )
     if not sector and abs(perimeter - teeth * math.pi * m) > 1e-9 * perimeter:
         raise GeometryError(
             f"pitch-curve perimeter {perimeter:.9g} mm != teeth * π * m = {teeth * math.pi * m:.9g} mm "

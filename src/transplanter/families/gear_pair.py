@@ -29,17 +29,22 @@ import inspect
 import math
 from pathlib import Path
 
+import numpy as np
+
 from transplanter import inputs
 from transplanter.cutter import RackCutter, ShaperCutter
 from transplanter.cutter_choice import first_cutter
 from transplanter.errors import SpecError, check_int, check_number
 from transplanter.families.build import build_family
 from transplanter.families.gears import ToothedPairStudy
+from transplanter.families.incomplete_pair import LOCKING_PLAY_DEG, IncompletePairStudy
 from transplanter.families.making import Making
 from transplanter.families.manifest import previous_manifest
 from transplanter.families.scripts import Family
 from transplanter.pair_gate import per_gear
 from transplanter.pitch import GearPair
+from transplanter.incomplete import LOCK_DEPTH
+from transplanter.pitch.intermittent import IntermittentLaw, is_segmented
 from transplanter.pitch.transmission import size_pair, transmission
 from transplanter.solids import Features
 
@@ -77,6 +82,9 @@ def pair_family(
     shift: float | tuple[float, float] = 0.0,
     trim_ring_tips: bool = True,
     allow_undercut: bool = False,
+    lock_clearance: float | None = None,
+    lock_depth: float = LOCK_DEPTH,
+    locking_play: float = LOCKING_PLAY_DEG,
 ) -> Family:
     """The family of one toothed pair of ``spec`` (the design; :func:`gear_pair` builds it).
 
@@ -117,9 +125,42 @@ def pair_family(
         False refuses the pair instead (``--no-trim-ring-tips``).
     allow_undercut : bool
         Accept an undercut flank instead of refusing it (``--allow-undercut``).
+    lock_clearance, lock_depth, locking_play
+        Incomplete pairs (a law with dwells, :mod:`transplanter.pitch.intermittent`): the locks'
+        radial clearance (mm; default 0.4 of the backlash), the locking arc's height above the end
+        pitch radius (modules; the end teeth are relieved to it) and the locking play the proof
+        holds the dwells and transitions to (deg).
+
+    **Incomplete pairs.** A ``spec`` of segments (``"0..60: dwell; 60..360: EXPR"``) or a ratio
+    CSV with zero rows (the dwells) makes an incomplete pair
+    (:class:`~transplanter.families.incomplete_pair.IncompletePairStudy`): the module and one of
+    ``teeth`` (pitches rolled per driver turn) or ``centre_distance``; a shaper cutter
+    (``cutter_teeth``, default 16) or ``rack``; ``internal`` for a planet driving its ring (ring
+    addendum 0.8 unless ``addendum`` is given, as full rings are trimmed for tip interference).
+    The options of full pairs that do not apply (``driven_lobes``, ``ring="driver"``,
+    ``scale_to_close``, ``shift``, ``trim_ring_tips=False``, ``allow_undercut``) are refused.
     """
     check_number("width", width, 0.0, 1000.0, low_open=True, unit="mm")
     inputs.boolean("internal", internal)
+    law = _intermittent(spec)
+    if law is not None:
+        refused = {
+            "driven_lobes": driven_lobes is not None,
+            "ring": ring != "driven",
+            "scale_to_close": scale_to_close is not False,
+            "shift": shift != 0.0,
+            "trim_ring_tips": trim_ring_tips is not True,
+            "allow_undercut": allow_undercut is not False,
+        }
+        for key, given in refused.items():
+            if given:
+                raise SpecError(f"{key} does not apply to an incomplete pair (a law with dwells): leave it out")
+        return _incomplete_family(
+            spec, law, internal, teeth, module, centre_distance, backlash, cutter_teeth, rack, width, name,
+            addendum, lock_clearance, lock_depth, locking_play,
+        )
+    if lock_clearance is not None or lock_depth != LOCK_DEPTH or locking_play != LOCKING_PLAY_DEG:
+        raise SpecError("lock_clearance, lock_depth and locking_play are for incomplete pairs (a law with dwells)")
     inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
     inputs.boolean("scale_to_close", scale_to_close)
     inputs.boolean("trim_ring_tips", trim_ring_tips)
@@ -151,6 +192,76 @@ def pair_family(
         f"a = {pair.centre_distance:.6g} mm{adjusted}, {cutter.label}{scaled}"
     )
     return Family(name, description, (study,))
+
+
+def _intermittent(spec) -> IntermittentLaw | None:
+    """The intermittent law of ``spec`` when it states one (segments, or a ratio CSV with zero
+    rows), else None (a full pair's transmission)."""
+    if not isinstance(spec, str):
+        return None
+    if is_segmented(spec):
+        return IntermittentLaw.parse(spec)
+    if spec.strip().lower().endswith(".csv"):
+        data = inputs.read_data_file("ratio CSV", spec.strip(), inputs.MAX_CSV_BYTES)
+        rows = [r.split(b",") for r in data.splitlines()[1:] if r.strip()]
+        try:
+            zero = any(len(r) == 2 and float(r[1]) == 0.0 for r in rows)
+        except ValueError:
+            return None  # the full pair's reader says what is wrong with it
+        return IntermittentLaw.from_csv(data) if zero else None
+    return None
+
+
+def _incomplete_family(
+    spec, law, internal, teeth, module, centre_distance, backlash, cutter_teeth, rack, width, name,
+    addendum, lock_clearance, lock_depth, locking_play,
+) -> Family:
+    """The family of one incomplete pair (see :func:`pair_family`)."""
+    if module is None or (teeth is None) == (centre_distance is None):
+        raise SpecError(
+            "an incomplete pair is sized by the module and one of teeth (pitches rolled per driver turn) or "
+            "centre distance"
+        )
+    if rack:
+        if cutter_teeth is not None:
+            raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
+        cutter = RackCutter()
+    else:
+        cutter = ShaperCutter(16 if cutter_teeth is None else check_int("cutter_teeth", cutter_teeth, 8, 200))
+    mesh = "internal" if internal else "external"
+    if internal and addendum == 1.0:
+        addendum = (1.0, INTERNAL_RING_ADDENDUM)
+    study = IncompletePairStudy(
+        name, law, module, mesh=mesh, teeth=teeth, centre_distance=centre_distance, cutter=cutter, backlash=backlash,
+        lock_clearance=lock_clearance, lock_depth=lock_depth, max_play_deg=locking_play, addendum=addendum,
+    )
+    pair = study.pair
+    making = (
+        Making(width, Features(_sector_bore(pair, "driver", module), keyway=False)),
+        Making(width, Features() if internal else Features(_sector_bore(pair, "driven", module), keyway=False)),
+    )
+    study = dataclasses.replace(study, making=making)
+    description = (
+        f"{mesh} incomplete pair of {spec!r}: {law.describe()}; m = {module:g} mm, a = {pair.centre_distance:.6g} mm, "
+        f"{study.tool.label}"
+    )
+    return Family(name, description, (study,))
+
+
+def _sector_bore(pair, role: str, module: float) -> float:
+    """A sector gear's plain bore: ``BORE_FRACTION`` of its smallest root radius (the pitch radii
+    of its sectors less a dedendum), rounded down to 0.5 mm, at least 3 mm — as for full gears."""
+    radii = []
+    for motion in pair.law.motions:
+        phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 721)
+        radii.append(float((pair.r1(phi, motion=motion) if role == "driver" else pair.r2(phi, motion=motion)).min()))
+    root = min(radii) - 1.25 * module
+    return max(3.0, math.floor(2 * BORE_FRACTION * root) / 2)
+
+
+#: an internal incomplete pair's ring addendum when none is given (modules): its tips clear the
+#: planet's as a full ring's are trimmed to the closed-form interference limit
+INTERNAL_RING_ADDENDUM = 0.8
 
 
 #: how a part script written by :func:`gear_pair` says so (it replaces only such a script)

@@ -49,16 +49,19 @@ from transplanter.export import csv_bytes, json_bytes
 from transplanter.families import pair_assembly
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
 from transplanter.families.study import Built, Checked, StudyDefaults
-from transplanter.incomplete import LOCK_ADDENDUM, TRANSITION_PITCHES, IncompleteGears, cut_incomplete
+from transplanter.incomplete import LOCK_DEPTH, TRANSITION_PITCHES, IncompleteGears, cut_incomplete
 from transplanter.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
-__all__ = ["IncompletePairStudy", "TIP_BAND"]
+__all__ = ["IncompletePairStudy", "TIP_BAND", "LOCKING_PLAY_DEG"]
 
 ROLES = ("driver", "driven")
 #: an entry contact within this many modules of both gears' tips is tip-on-tip
 TIP_BAND = 0.1
+#: the locking play a study holds its dwells and transitions to unless told, deg of driven turn (in
+#: all): what the locks and the relieved end teeth of the examples keep (0.5-1.5 deg at modules 2-3)
+LOCKING_PLAY_DEG = 2.0
 #: meshing steps per driver turn
 STEPS = 720
 
@@ -69,9 +72,8 @@ class IncompletePairStudy(StudyDefaults):
     over a driver turn, all motions together) or ``centre_distance`` (mm), exactly one; ``mesh``
     ``"external"`` or ``"internal"`` (the planet drives its ring); cut by ``cutter`` (a shaper,
     ``ShaperCutter(16)`` by default) for ``backlash`` (mm; None: ISO/TR 10064-2); the locks' radial
-    clearance ``lock_clearance`` (mm; default 0.4 of the backlash), the locking arc's height above
-    the end pitch radius ``lock_addendum`` (modules; the teeth passing the lock are relieved to
-    it), and the locking play the proof holds the dwells and transitions to, ``max_play_deg``
+    clearance ``lock_clearance`` (mm; default 0.4 of the backlash), how deep the driver's locking
+    arc reaches into the driven's tips ``lock_depth`` (modules), and the locking play the proof holds the dwells and transitions to, ``max_play_deg``
     (deg, the driven's free play in all)."""
 
     cost = 10
@@ -85,8 +87,8 @@ class IncompletePairStudy(StudyDefaults):
     cutter: Cutter | None = None
     backlash: float | None = None
     lock_clearance: float | None = None
-    lock_addendum: float | None = LOCK_ADDENDUM
-    max_play_deg: float = 1.0
+    lock_depth: float = LOCK_DEPTH
+    max_play_deg: float = LOCKING_PLAY_DEG
     making: tuple[Making, Making] | None = None
     tolerance: float = WIRE_EDM_TOLERANCE
     steps: int = STEPS
@@ -147,7 +149,7 @@ class IncompletePairStudy(StudyDefaults):
             self.design_backlash,
             addendum=self.addendum,
             lock_clearance=self.lock_clearance,
-            lock_addendum=self.lock_addendum,
+            lock_depth=self.lock_depth,
         )
 
     # -- the proof -------------------------------------------------------------------------------
@@ -289,19 +291,23 @@ class IncompletePairStudy(StudyDefaults):
         a = pair.centre_distance
         centre = a if pair.mesh == "external" else -a
         out = []
-        arc = self.gears.locks
-        for dwell, lock in zip(pair.law.dwells, arc, strict=True):
+        motions = pair.law.motions
+        sectors = self.gears.driver.sectors_deg
+        segs = pair.law.segments
+        for dwell, lock in zip(pair.law.dwells, self.gears.locks, strict=True):
             psi = float(pair.law.psi(np.radians([dwell.start + 1e-9]))[0])
             turn2 = math.pi + psi if pair.mesh == "external" else -psi
             held = shapely.affinity.translate(
                 shapely.affinity.rotate(driven, turn2, origin=(0, 0), use_radians=True), centre, 0.0
             )
-            teeth = shapely.difference(driver, shapely.Point(0, 0).buffer(lock.radius - 1e-4, quad_segs=256))
+            teeth = driver  # whatever of the driver touches the held driven first (arc, relieved tooth, tooth)
+            after = motions.index(segs[(segs.index(dwell) + 1) % len(segs)])
+            first_space = math.radians(sectors[after][0])
 
             def gap(phi: float) -> float:
                 return float(held.distance(shapely.affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True)))
 
-            lo, hi = math.radians(dwell.start), math.radians(dwell.end) + math.radians(30.0)
+            lo, hi = math.radians(dwell.start) + 1e-6, math.radians(dwell.end) + math.radians(30.0)
             if gap(hi) > 0:
                 out.append({"dwell_deg": [dwell.start, dwell.end], "entry": "no tooth reaches the held driven gear"})
                 continue
@@ -318,9 +324,11 @@ class IncompletePairStudy(StudyDefaults):
             d2 = np.linalg.norm(local, axis=1)
             tip2 = float(d2.max()) if pair.mesh == "external" else float(d2.min())
             below1, below2 = (tip1 - r1) / m, abs(tip2 - r2) / m
+            body = (math.atan2(p1.y, p1.x) + hi - first_space + math.pi) % (2 * math.pi) - math.pi
             out.append(
                 {
                     "dwell_deg": [dwell.start, dwell.end],
+                    "touching": "the locking arc" if body < 0 and abs(r1 - lock.radius) < 1e-3 else "a tooth of the sector",
                     "first_contact_driver_deg": round(math.degrees(hi) % 360, 4),
                     "after_dwell_end_deg": round(math.degrees(hi) - dwell.end, 4),
                     "driver_radius_below_tip_m": round(below1, 4),
@@ -518,3 +526,9 @@ class IncompletePairStudy(StudyDefaults):
             curves,
             self.max_play_deg,
         )
+
+
+def _fan(a0: float, a1: float, radius: float) -> shapely.Polygon:
+    """The sector of angles a0..a1 (rad) out to ``radius``."""
+    a = np.linspace(a0, a1, 181)
+    return shapely.Polygon(np.vstack([[0.0, 0.0], np.column_stack([radius * np.cos(a), radius * np.sin(a)])]))
