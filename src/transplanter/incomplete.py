@@ -74,6 +74,8 @@ CORNER_RADIUS_MM = 0.16
 #: vertices closer than this to the outline through their neighbours are dropped after the wire's
 #: closing (mm): far below the chord tolerance, far above float round-off
 SLIVER_MM = 1e-6
+#: the grid the made outlines are snapped to, mm
+GRID_MM = 1e-7
 #: circle segments of the clearance growth's round joins (chord error c (1 - cos π/n) < 0.1 µm)
 ROUND_SEGMENTS = 128
 
@@ -531,7 +533,7 @@ def cut_incomplete(
     for (_dwell, before, after), r_lock in zip(dwells, radii, strict=True):
         disc = shapely.Point(0.0, 0.0).buffer(r_lock, quad_segs=max(64, int(math.pi * r_lock / 0.05)))
         blank.append(shapely.intersection(disc, _between(edges[before][1], edges[after][0], far)))
-    d_body = _wire_cut(shapely.difference(shapely.union_all(blank), shapely.union_all(removed)), corner_radius)
+    d_body = _wire_cut(_largest(shapely.difference(shapely.union_all(blank), shapely.union_all(removed)), m), corner_radius)
     if not isinstance(d_body, shapely.Polygon):
         raise GeometryError(f"the driver's sectors and locking arcs do not join into one part ({d_body.geom_type})")
     driver = SectorGear(
@@ -636,8 +638,11 @@ def _wire_cut(body, radius: float):
     closed = body.buffer(radius, quad_segs=64).buffer(-radius, quad_segs=64)
     if not isinstance(closed, shapely.Polygon) or closed.is_empty:
         return body
-    # the offsets leave vertices nanometres apart, which a mesh writer would weld into slivers
-    return shapely.simplify(closed, SLIVER_MM)
+    # the offsets leave vertices nanometres apart, which a mesh writer would weld into slivers and
+    # a file's rounding could fold: dropped, and the rest snapped to a grid far below the chord
+    # tolerance (valid by construction; the CSV's nine decimals then hold it exactly)
+    snapped = shapely.set_precision(shapely.simplify(closed, SLIVER_MM), GRID_MM)
+    return snapped if isinstance(snapped, shapely.Polygon) else closed
 
 
 def _largest(body, module: float):

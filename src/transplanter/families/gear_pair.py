@@ -134,7 +134,7 @@ def pair_family(
     **Incomplete pairs.** A ``spec`` of segments (``"0..60: dwell; 60..360: EXPR"``) or a ratio
     CSV with zero rows (the dwells) makes an incomplete pair
     (:class:`~transplanter.families.incomplete_pair.IncompletePairStudy`): the module and one of
-    ``teeth`` (pitches rolled per driver turn) or ``centre_distance``; a shaper cutter
+    ``teeth`` (the driver's on the first motion's sector) or ``centre_distance``; a shaper cutter
     (``cutter_teeth``, default 16) or ``rack``; ``internal`` for a planet driving its ring (ring
     addendum 0.8 unless ``addendum`` is given, as full rings are trimmed for tip interference).
     The options of full pairs that do not apply (``driven_lobes``, ``ring="driver"``,
@@ -219,7 +219,7 @@ def _incomplete_family(
     """The family of one incomplete pair (see :func:`pair_family`)."""
     if module is None or (teeth is None) == (centre_distance is None):
         raise SpecError(
-            "an incomplete pair is sized by the module and one of teeth (pitches rolled per driver turn) or "
+            "an incomplete pair is sized by the module and one of teeth (the driver's on the first motion's sector) or "
             "centre distance"
         )
     if rack:

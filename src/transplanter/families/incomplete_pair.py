@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 import shapely
+from scipy import optimize
 
 from transplanter import formats, plots, validate
 from transplanter.backlash import BAND_FACTOR, BAND_SLACK_MM, design_backlash, tolerance_budget
@@ -49,7 +50,8 @@ from transplanter.export import csv_bytes, json_bytes
 from transplanter.families import pair_assembly
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
 from transplanter.families.study import Built, Checked, StudyDefaults
-from transplanter.incomplete import LOCK_DEPTH, TRANSITION_PITCHES, IncompleteGears, cut_incomplete
+from transplanter.incomplete import LOCK_DEPTH, TRANSITION_PITCHES, IncompleteGears, cut_incomplete, sector_pitches
+from transplanter.pair_gate import per_gear
 from transplanter.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
@@ -68,8 +70,9 @@ STEPS = 720
 
 @dataclass(frozen=True)
 class IncompletePairStudy(StudyDefaults):
-    """An incomplete pair of ``law`` at ``module`` (mm), sized by ``teeth`` (the pitches rolled
-    over a driver turn, all motions together) or ``centre_distance`` (mm), exactly one; ``mesh``
+    """An incomplete pair of ``law`` at ``module`` (mm), sized by ``teeth`` (the driver's teeth on
+    the first motion's sector: the centre distance is then the one at which its entry and exit
+    contacts fall on the motion's ends) or ``centre_distance`` (mm), exactly one; ``mesh``
     ``"external"`` or ``"internal"`` (the planet drives its ring); cut by ``cutter`` (a shaper,
     ``ShaperCutter(16)`` by default) for ``backlash`` (mm; None: ISO/TR 10064-2); the locks' radial
     clearance ``lock_clearance`` (mm; default 0.4 of the backlash), how deep the driver's locking
@@ -82,7 +85,7 @@ class IncompletePairStudy(StudyDefaults):
     law: IntermittentLaw
     module: float
     mesh: str = "external"
-    teeth: float | None = None
+    teeth: int | None = None
     centre_distance: float | None = None
     cutter: Cutter | None = None
     backlash: float | None = None
@@ -100,11 +103,11 @@ class IncompletePairStudy(StudyDefaults):
         check_number("module", self.module, 0.05, 100.0, unit="mm")
         if (self.teeth is None) == (self.centre_distance is None):
             raise SpecError(
-                f"{self.name}: give exactly one of teeth (pitches rolled per driver turn) or centre_distance (mm) "
+                f"{self.name}: give exactly one of teeth (the driver's on the first motion's sector) or centre_distance (mm) "
                 f"with the module; got teeth={self.teeth!r}, centre_distance={self.centre_distance!r}"
             )
         if self.teeth is not None:
-            check_number("teeth", self.teeth, 4.0, 10_000.0)
+            check_int("teeth", self.teeth, 3, 10_000)
         if self.centre_distance is not None:
             check_number("centre_distance", self.centre_distance, 0.0, 100_000.0, low_open=True, unit="mm")
         check_number("max_play_deg", self.max_play_deg, 0.0, 45.0, low_open=True, unit="deg")
@@ -119,12 +122,30 @@ class IncompletePairStudy(StudyDefaults):
 
     @cached_property
     def pair(self) -> IncompletePair:
-        """The law at the centre distance its sizing gives."""
+        """The law at the centre distance its sizing gives: as given, or the one at which the first
+        motion's sector carries ``teeth`` teeth whose first pair's contact begins as the motion
+        begins and whose last pair's ends as it ends (:func:`incomplete.sector_pitches`)."""
         nominal = IncompletePair(self.law, 100.0, self.mesh)
         if self.centre_distance is not None:
             return nominal.scaled(self.centre_distance / 100.0)
-        rolled = sum(nominal.sector_lengths())
-        return nominal.scaled(float(self.teeth) * math.pi * self.module / rolled)
+        motion = self.law.motions[0]
+        tool = self.tool
+
+        def misfit(a: float) -> float:
+            pair = nominal.scaled(a / 100.0)
+            return sector_pitches(pair, motion, tool, self._addenda, pair.sector_lengths()[0]) - (self.teeth - 1)
+
+        rolled = nominal.sector_lengths()[0] / 100.0  # mm of roll per mm of centre distance
+        guess = (self.teeth + 1) * math.pi * self.module / rolled
+        try:
+            a = optimize.brentq(misfit, 0.3 * guess, 3.0 * guess, xtol=1e-9)
+        except ValueError as exc:
+            raise SpecError.out_of_range("teeth", self.teeth, "a tooth count this law's first motion can carry") from exc
+        return nominal.scaled(a / 100.0)
+
+    @property
+    def _addenda(self) -> tuple[float, float]:
+        return per_gear("addendum", self.addendum)
 
     @property
     def tool(self) -> Cutter:
@@ -263,10 +284,38 @@ class IncompletePairStudy(StudyDefaults):
                     f"{label}: the driven gear can turn {deg_play[k_deg]:.3f} deg at driver {math.degrees(angle[k_deg]):.2f} "
                     f"deg, beyond the locking play {self.max_play_deg:g} deg"
                 )
-        contacts = report.contacts[phase[: len(report.driver_angle)] != 1] if len(report.driver_angle) else []
+        if "dwell" in out:  # where the locks hold the driven: the middle of its play, off its law's angle
+            uni = self.phases(report.driver_angle) == 1
+            r2u = np.abs(pair.driver.r(report.driver_angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance))
+            middle = report.driven_error[uni] + 0.5 * report.backlash[uni] / r2u[uni]
+            out["dwell"]["held_off_law_deg"] = [significant(float(np.degrees(middle.min()))), significant(float(np.degrees(middle.max())))]
+        contacts = report.contacts[self.phases(report.driver_angle) != 1]
         if len(contacts) and int(np.min(contacts)) == 0:
             problems.append("no tooth pair is in contact somewhere in the motion: the driven gear would jump")
         return out, problems
+
+    def dwell_table(self, entry: list[dict], meshing: dict) -> list[dict]:
+        """Each dwell as asked (the law) and as made: it ends where the first tooth meets the held
+        driven gear (``entry``), and the driven is held at its law's angle within the middle of the
+        locking play measured on the re-read DXF (or the outlines)."""
+        src = meshing.get("dxf", meshing.get("outline", {}))
+        held = src.get("dwell", {}).get("held_off_law_deg", [math.nan, math.nan])
+        out = []
+        for dwell, e in zip(self.pair.law.dwells, entry, strict=True):
+            psi = math.degrees(float(self.pair.law.psi(np.radians([dwell.start + 1e-9]))[0]))
+            end = e.get("first_contact_driver_deg", math.nan)
+            made = (end - dwell.start) % 360 if math.isfinite(end) else math.nan
+            out.append(
+                {
+                    "asked_driver_deg": [dwell.start, dwell.end],
+                    "asked_duration_deg": dwell.end - dwell.start,
+                    "made_driver_deg": [dwell.start, end],
+                    "made_duration_deg": round(made, 4),
+                    "driven_angle_deg": round(psi % 360, 6),
+                    "held_off_law_deg": held,
+                }
+            )
+        return out
 
     def transitions(self) -> list[dict]:
         """Each dwell/motion boundary: what the law asks (speed and acceleration jumps, per unit
@@ -348,6 +397,10 @@ class IncompletePairStudy(StudyDefaults):
             "module_mm": rounded(self.module, 12),
             "centre_distance_mm": rounded(pair.centre_distance, 9),
             "pitches_rolled_per_turn": rounded(sum(pair.sector_lengths()) / (math.pi * self.module), 6),
+            "sector_pitches_first_to_last_tooth": [
+                rounded(sector_pitches(pair, mo, tool, self._addenda, length), 6)
+                for mo, length in zip(pair.law.motions, pair.sector_lengths(), strict=True)
+            ],
             "driven_turns_per_driver_turn": f"1/{pair.law.turn_fraction}",
             "cutter": {"kind": type(tool).__name__, "teeth": getattr(tool, "teeth", None)},
             "backlash_mm": rounded(self.design_backlash, 6),
@@ -410,6 +463,7 @@ class IncompletePairStudy(StudyDefaults):
             results["entry"] = self.entry_contacts(*sections)
         else:
             results["entry"] = self.entry_contacts(g.driver.polygon, g.driven.polygon)
+        results["dwells"] = self.dwell_table(results["entry"], meshing)
         tip_on_tip = [e for e in results["entry"] if e.get("tip_on_tip")]
         if tip_on_tip:
             raise GeometryError(f"{self.name}: the first tooth contact after a dwell is tip on tip: {tip_on_tip[0]}")
@@ -456,7 +510,8 @@ class IncompletePairStudy(StudyDefaults):
         pair = self.pair
         external = pair.mesh == "external"
         centre = pair.centre_distance if external else -pair.centre_distance
-        turn = 180.0 if external else 0.0
+        psi0 = float(pair.law.psi(np.zeros(1))[0])  # the driven's turn at driver angle 0
+        turn = round(math.degrees(math.pi + psi0 if external else -psi0) % 360.0, 9)
         placed = [
             (f"{self.name}.driver", parts["driver"], formats.placement()),
             (f"{self.name}.driven", parts["driven"], formats.placement(centre, 0.0, 0.0, math.radians(turn))),
