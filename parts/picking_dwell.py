@@ -20,10 +20,7 @@ from transplanter.pitch.intermittent import IntermittentLaw
 from transplanter.solids import Features
 
 #: the arm's cycle: at the tray from 150 to 210 deg of the driver, a modified-sine turn after it
-LAW = (
-    "150..210: dwell; "
-    "210..510: 2*pi*(phi - 7*pi/6)/(5*pi/3) - 0.35*sin(2*pi*(phi - 7*pi/6)/(5*pi/3))"
-)
+LAW = "150..210: dwell; 210..510: 2*pi*(phi - 7*pi/6)/(5*pi/3) - 0.35*sin(2*pi*(phi - 7*pi/6)/(5*pi/3))"
 MODULE = 2.0  # mm
 SECTOR_TEETH = 30  # driver teeth on its sector (the centre distance follows)
 WIDTH = 12.0  # mm

@@ -16,7 +16,17 @@ SRC = Path(__file__).resolve().parents[1] / "src" / "transplanter"
 LAYERS = (
     ("errors", "tolerances", "precision", "extrema", "proportions", "inputs"),
     ("contact", "linkage", "pitch", "planetary", "agronomy", "objectives", "backlash", "cutter", "cams", "optimise"),
-    ("arcs", "machining", "interference", "tooth_spaces", "teeth", "pair_gate", "cutter_choice", "solids"),
+    (
+        "arcs",
+        "machining",
+        "interference",
+        "tooth_spaces",
+        "teeth",
+        "pair_gate",
+        "cutter_choice",
+        "solids",
+        "incomplete",
+    ),
     ("clearance", "arm_parts", "carrier_parts"),
     ("mesh_engine", "mesh_refine", "meshing", "train_rebuild", "follower", "validate", "machine", "carriers"),
     ("dxf", "stl", "step", "threemf", "export", "plots", "report", "animation"),

@@ -335,25 +335,30 @@ def _print_incomplete(rec: dict, folder: Path) -> int:
     )
     for lock in res["locks"]:
         print(
-            f"  dwell {lock['dwell_deg'][0]:g}..{lock['dwell_deg'][1]:g} deg: locking arcs {lock['driver_arc_radius_mm']:.4f} / "
-            f"{lock['driven_arc_radius_mm']:.4f} mm, horns at +/-{lock['horns_half_angle_deg']:.1f} deg"
+            f"  dwell {lock['dwell_deg'][0]:g}..{lock['dwell_deg'][1]:g} deg: locking arcs "
+            f"{lock['driver_arc_radius_mm']:.4f} / {lock['driven_arc_radius_mm']:.4f} mm, "
+            f"horns at +/-{lock['horns_half_angle_deg']:.1f} deg"
         )
     for t in res["transitions"]:
         print(
-            f"  {t['kind']} at driver {t['driver_deg']:g} deg: driven speed jumps by {t['speed_jump_w2_per_w1']:.4g} x the "
-            f"driver's, acceleration by {t['acceleration_jump_per_w1_squared']:.4g} x w1^2"
+            f"  {t['kind']} at driver {t['driver_deg']:g} deg: driven speed jumps by "
+            f"{t['speed_jump_w2_per_w1']:.4g} x the driver's, "
+            f"acceleration by {t['acceleration_jump_per_w1_squared']:.4g} x w1^2"
         )
     for e in res["entry"]:
         if "first_contact_driver_deg" in e:
             print(
                 f"  first tooth contact after the dwell at driver {e['first_contact_driver_deg']:.3f} deg "
-                f"({e['after_dwell_end_deg']:+.3f} deg from the law's), {e['driver_radius_below_tip_m']:.2f} m below the "
+                f"({e['after_dwell_end_deg']:+.3f} deg from the law's), "
+                f"{e['driver_radius_below_tip_m']:.2f} m below the "
                 f"driver's tip, {e['driven_radius_from_tip_m']:.2f} m from the driven's"
             )
     for source, r in sorted((k, v) for k, v in res["meshing"].items() if isinstance(v, dict)):
         parts = []
         if "motion" in r:
-            parts.append(f"motion free play {_fmt_um(r['motion']['free_play_mm'][0])}..{_fmt_um(r['motion']['free_play_mm'][1])}")
+            parts.append(
+                f"motion free play {_fmt_um(r['motion']['free_play_mm'][0])}..{_fmt_um(r['motion']['free_play_mm'][1])}"
+            )
         for phase in ("dwell", "transition"):
             if phase in r:
                 parts.append(f"{phase} play <= {r[phase]['largest_play_deg']:.3f} deg")
@@ -540,7 +545,8 @@ def _main(argv: list[str] | None = None) -> int:
     p.add_argument(
         "--lock-depth",
         type=float,
-        help="incomplete pairs: how deep the driver's locking arc reaches into the driven's tips, modules (default 0.15)",
+        help="incomplete pairs: how deep the driver's locking arc reaches into the driven's tips, modules "
+        "(default 0.3)",
     )
     p.add_argument(
         "--locking-play",

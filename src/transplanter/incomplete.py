@@ -36,34 +36,25 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field, replace
 
-import manifold3d
 import numpy as np
 import shapely
 from shapely import affinity
 
 from transplanter.cutter import Cutter
 from transplanter.errors import GeometryError, SpecError, check_number
+from transplanter.pair_gate import per_gear
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.intermittent import Dwell, IncompletePair, Motion
 from transplanter.pitch.periodic import PeriodicSpline
-from transplanter.pair_gate import per_gear
+from transplanter.sweep import swept
 from transplanter.teeth import generate, require_cutter
 
 __all__ = ["SectorGear", "Lock", "IncompleteGears", "cut_incomplete", "virtual_curve", "sector_pitches", "LOCK_DEPTH"]
 
 #: samples per degree of a sector's true pitch curve in its virtual closed curve
 CURVE_SAMPLES_PER_DEG = 8
-#: pose step of the relief sweep, driver degrees (its chord error is added to the growth)
-SWEEP_STEP_DEG = 1.0
-#: the driver's outline is simplified by this for the sweep (added to the growth), mm
-SWEEP_SIMPLIFY_MM = 0.5e-3
-#: the locking arc's travel must pass the horns by this for the dwell's annular sweep, deg
-LOCK_MARGIN_DEG = 5.0
 #: the transition window either side of a dwell, in circular pitches of roll
 TRANSITION_PITCHES = 2.5
-#: the driven's cutter spaces end this many pitches beyond the lock's horns (negative: within the
-#: concave arc's span, their tops then cut by it)
-LOCK_ZONE_PITCHES = -0.5
 #: how far the driver's locking arc reaches into the driven's tips on the line of centres, modules:
 #: a shallow arc keeps the driven's entry and exit teeth out of the pocket it sweeps (the lock's
 #: lever, the horns' half-angle, grows as its square root)
@@ -76,8 +67,6 @@ CORNER_RADIUS_MM = 0.16
 SLIVER_MM = 1e-6
 #: the grid the made outlines are snapped to, mm
 GRID_MM = 1e-7
-#: circle segments of the clearance growth's round joins (chord error c (1 - cos π/n) < 0.1 µm)
-ROUND_SEGMENTS = 128
 
 
 @dataclass(frozen=True, eq=False)
@@ -291,12 +280,14 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
     # along the virtual curve from a kept sample, a pitch apart: beyond the motion's ends the teeth
     # run on along the bridge (the last may leave after the end; the dwell's sweep relieves it)
     k0 = int(np.flatnonzero(keep)[0])
-    body0 = sigma * float(pair.psi_in(motion, phi[k0:k0 + 1])[0]) if role == "driven" else float(phi[k0])
+    body0 = sigma * float(pair.psi_in(motion, phi[k0 : k0 + 1])[0]) if role == "driven" else float(phi[k0])
     s0 = float(curve.arc_length(np.array([np.mod(body0 - origin, period)]))[0])
     lobe_length = curve.perimeter / lobes
     s = np.sort(s0 + sigma * (space_u - u[k0]))  # the frame wraps: no seam to cross
     spaces = np.concatenate([s + k * lobe_length for k in range(lobes)])
-    gear = generate(curve, cutter, None, internal=internal, addendum=addendum[0 if role == "driver" else 1], spaces=spaces)
+    gear = generate(
+        curve, cutter, None, internal=internal, addendum=addendum[0 if role == "driver" else 1], spaces=spaces
+    )
     points = np.array([sp.pitch_point for sp in gear.spaces])
     normals = np.array([sp.normal for sp in gear.spaces])
     tip = gear.removed[0] if internal else gear.blank
@@ -349,120 +340,6 @@ def _horns(a: float, radius: float, tip: float) -> tuple[float, float]:
             f"({tip:.4g} mm, centres {a:.4g} mm apart): no concave arc can hold the driven there"
         )
     return math.acos(c1), math.acos(c2)
-
-
-def _posed(points: np.ndarray, pair: IncompletePair, phi: np.ndarray) -> np.ndarray:
-    """Driver body points (n, 2) in the driven's body frame at driver angles ``phi``: (poses, n, 2)."""
-    a = pair.centre_distance
-    centre = a if pair.mesh == "external" else -a
-    psi = pair.law.psi(phi)
-    psi2 = np.pi + psi if pair.mesh == "external" else -psi
-    return _rot(_rot(points[None], -phi[:, None]) - (centre, 0.0), -psi2[:, None])
-
-
-def _hulls(ring: np.ndarray, pair: IncompletePair, phi: np.ndarray, reach, ends: bool):
-    """Contours of the region a closed ``ring`` of driver points sweeps through the driven's frame
-    over the driver angles ``phi``: between every two poses the convex hull of each edge's two
-    positions that ``reach`` admits (two triangles where the four points make a convex quad, else
-    the four of the hull), the end poses with ``ends``; and the chord error of the poses (mm)."""
-    posed = _posed(ring, pair, phi)  # (poses, n, 2)
-    near = reach(posed)
-    out: list[np.ndarray] = []
-    if ends:
-        out.extend(posed[k] for k in (0, len(phi) - 1) if near[k].any())
-    a0, a1 = posed[:-1], np.roll(posed[:-1], -1, axis=1)
-    b0, b1 = posed[1:], np.roll(posed[1:], -1, axis=1)
-    use = near[:-1] | np.roll(near[:-1], -1, axis=1) | near[1:] | np.roll(near[1:], -1, axis=1)
-    if not use.any():
-        return out, 0.0
-    q = np.stack([a0[use], a1[use], b1[use], b0[use]], axis=1)  # (m, 4, 2)
-    e = np.roll(q, -1, axis=1) - q
-    turns = e[:, :, 0] * np.roll(e, -1, axis=1)[:, :, 1] - e[:, :, 1] * np.roll(e, -1, axis=1)[:, :, 0]
-    convex = np.all(turns > 0, axis=1) | np.all(turns < 0, axis=1)
-    pick = [(0, 1, 2), (0, 2, 3)]
-    tri = [q[convex][:, list(t)] for t in pick]
-    tri += [q[~convex][:, list(t)] for t in ((0, 1, 2), (0, 2, 3), (0, 1, 3), (1, 2, 3))]
-    tri = np.concatenate(tri)
-    area = (tri[:, 1, 0] - tri[:, 0, 0]) * (tri[:, 2, 1] - tri[:, 0, 1]) - (tri[:, 2, 0] - tri[:, 0, 0]) * (
-        tri[:, 1, 1] - tri[:, 0, 1]
-    )
-    keep = np.abs(area) > 1e-16
-    tri, area = tri[keep], area[keep]
-    tri[area < 0] = tri[area < 0][:, ::-1]
-    out.extend(tri)
-    # each point follows a roulette about the pitch point (the driver's axis in a dwell): between
-    # two poses it strays from its chord by at most d δ² / 8 (d its distance from that centre,
-    # δ the relative turn); twice that bound is taken
-    psi = pair.law.psi(phi)
-    rel = np.abs(np.diff(phi + (psi if pair.mesh == "external" else -psi)))
-    r1 = pair.driver.r(phi)
-    pitch_pt = _posed_each(np.column_stack([r1 * np.cos(phi), r1 * np.sin(phi)]), pair, phi)
-    d = np.linalg.norm(posed[:-1] - pitch_pt[:-1, None, :], axis=2)
-    d = np.where(use, d, 0.0).max(axis=1)
-    return out, float(np.max(d * rel**2 / 4))
-
-
-def _posed_each(points: np.ndarray, pair: IncompletePair, phi: np.ndarray) -> np.ndarray:
-    """One driver body point per driver angle (n, 2), each posed at its angle in the driven's frame."""
-    a = pair.centre_distance
-    centre = a if pair.mesh == "external" else -a
-    psi = pair.law.psi(phi)
-    psi2 = np.pi + psi if pair.mesh == "external" else -psi
-    return _rot(_rot(points, -phi) - (centre, 0.0), -psi2)
-
-
-def _sweep(driver: shapely.Polygon, pair: IncompletePair, dwell: tuple[float, float], window, grow: float, lock, reach):
-    """The region the driver's body, grown by ``grow``, sweeps through the driven's body frame
-    while the driver turns over ``window`` (rad) around the ``dwell`` (rad); ``reach(q)`` says a
-    driven-frame point can meet driven material. In the rolling windows: between every two poses
-    the convex hull of each edge's two positions (:func:`_hulls`, their chord error added to the
-    growth). Over the dwell the driven stands still and the driver turns about its axis: when the
-    locking arc's travel covers the lock zone, what the driver sweeps there is the annular sector
-    of that travel (radius ``lock.radius``, which clears every tooth tip passing it); a dwell too
-    short for that is swept pose by pose too. United by Clipper2 (manifold3d ``CrossSection``)."""
-    body = driver.simplify(SWEEP_SIMPLIFY_MM)
-    rings = [np.asarray(body.exterior.coords)[:-1], *(np.asarray(i.coords)[:-1] for i in body.interiors)]
-    arc = np.asarray(driver.exterior.coords)[:-1]
-    on_arc = np.abs(np.linalg.norm(arc, axis=1) - lock.radius) < 1e-6
-    ang = np.unwrap(np.arctan2(arc[on_arc, 1], arc[on_arc, 0])) if on_arc.any() else np.zeros(1)
-    lo, hi = float(ang.min()) - dwell[1], float(ang.max()) - dwell[0]  # world angles the arc covers
-    annular = False  # the teeth stand above the arc: swept pose by pose
-    spans = [(window[0], dwell[0]), (dwell[1], window[1])] if annular else [(window[0], window[1])]
-    step = math.radians(SWEEP_STEP_DEG)
-    contours: list[np.ndarray] = []
-    chord = 0.0
-    for a, b in spans:
-        phi = np.linspace(a, b, max(2, int(math.ceil((b - a) / step))) + 1)
-        for ring in rings:
-            found, err = _hulls(ring, pair, phi, reach, ends=True)
-            contours.extend(found)
-            chord = max(chord, err)
-    if annular:
-        band = _span(lo, hi, lock.radius, tol=1e-5)
-        world = np.vstack([[0.0, 0.0], band])
-        contours.append(_posed(_rot(world, dwell[0]), pair, np.array([dwell[0]]))[0])
-    if not contours:
-        return shapely.Polygon()
-    oriented = []
-    for c in contours:
-        if len(c) == 3:  # the triangles are counter-clockwise already
-            oriented.append(c)
-            continue
-        x, y = c[:, 0], c[:, 1]
-        signed = float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
-        oriented.append(c if signed > 0 else c[::-1])
-    section = manifold3d.CrossSection(oriented, manifold3d.FillRule.NonZero)
-    section = section.offset(grow + chord + SWEEP_SIMPLIFY_MM, manifold3d.JoinType.Round, 2.0, ROUND_SEGMENTS)
-    return _shapely(section)
-
-
-def _shapely(section) -> shapely.Geometry:
-    """A manifold3d CrossSection as one shapely geometry (its contours by even-odd)."""
-    polys = [shapely.Polygon(c) for c in section.to_polygons() if len(c) >= 3]
-    out = shapely.Polygon()
-    for p in polys:
-        out = shapely.symmetric_difference(out, p)
-    return shapely.make_valid(out) if not out.is_valid else out
 
 
 def cut_incomplete(
@@ -533,7 +410,9 @@ def cut_incomplete(
     for (_dwell, before, after), r_lock in zip(dwells, radii, strict=True):
         disc = shapely.Point(0.0, 0.0).buffer(r_lock, quad_segs=max(64, int(math.pi * r_lock / 0.05)))
         blank.append(shapely.intersection(disc, _between(edges[before][1], edges[after][0], far)))
-    d_body = _wire_cut(_largest(shapely.difference(shapely.union_all(blank), shapely.union_all(removed)), m), corner_radius)
+    d_body = _wire_cut(
+        _largest(shapely.difference(shapely.union_all(blank), shapely.union_all(removed)), m), corner_radius
+    )
     if not isinstance(d_body, shapely.Polygon):
         raise GeometryError(f"the driver's sectors and locking arcs do not join into one part ({d_body.geom_type})")
     driver = SectorGear(
@@ -545,7 +424,10 @@ def cut_incomplete(
         tool,
         np.vstack([s.points for s in drv]),
         tuple(
-            (round(math.degrees(math.atan2(e0[1, 1], e0[1, 0])), 6), round(math.degrees(math.atan2(e1[1, 1], e1[1, 0])), 6))
+            (
+                round(math.degrees(math.atan2(e0[1, 1], e0[1, 0])), 6),
+                round(math.degrees(math.atan2(e1[1, 1], e1[1, 0])), 6),
+            )
             for e0, e1 in edges
         ),
     )
@@ -561,7 +443,9 @@ def cut_incomplete(
             lo = (1 if not ext else -1) * float(pair.psi_in(mo, np.radians([mo.start]))[0])
             hi = (1 if not ext else -1) * float(pair.psi_in(mo, np.radians([mo.end]))[0])
             lo, hi = min(lo, hi), max(lo, hi)
-            wedges = [_radial(lo + i * 2 * math.pi / lobes, hi + i * 2 * math.pi / lobes, far * 4) for i in range(lobes)]
+            wedges = [
+                _radial(lo + i * 2 * math.pi / lobes, hi + i * 2 * math.pi / lobes, far * 4) for i in range(lobes)
+            ]
             pieces.append((drn[k], shapely.union_all(wedges)))
     r_out = max(float(np.linalg.norm(np.asarray(s.polygon.exterior.coords), axis=1).max()) for s in drn)
     if ext:
@@ -569,7 +453,9 @@ def cut_incomplete(
         reach_r = float(np.linalg.norm(shapely.get_coordinates(n_blank), axis=1).max()) + c + m
     else:
         n_blank = shapely.Point(0.0, 0.0).buffer(r_out, quad_segs=max(64, int(math.pi * r_out / 0.05)))
-        reach_r = min(float(np.linalg.norm(np.asarray(s.polygon.interiors[0].coords), axis=1).min()) for s in drn) - c - m
+        reach_r = (
+            min(float(np.linalg.norm(np.asarray(s.polygon.interiors[0].coords), axis=1).min()) for s in drn) - c - m
+        )
     n_cut = [s.removed if w is None else shapely.intersection(s.removed, w) for s, w in pieces]
     pre = shapely.difference(n_blank, shapely.union_all(n_cut))
     turn = 2 * math.pi / lobes
@@ -585,7 +471,7 @@ def cut_incomplete(
         return reach
 
     sweeps, relief = [], []
-    for (dwell, before, after), lock in zip(dwells, locks, strict=True):
+    for dwell, before, after in dwells:
         # the transition windows: the lock zone's roll and the teeth's reach beyond it
         w0 = _roll_angle(pair, motions[before], zones[before][1] + TRANSITION_PITCHES * math.pi * m, True)
         w1 = _roll_angle(pair, motions[after], zones[after][0] + TRANSITION_PITCHES * math.pi * m, False)
@@ -596,14 +482,12 @@ def cut_incomplete(
         half = (zones[before][1] + 2 * math.pi * m) / r2b
         reach = reacher(chi, half)
         turns = [2 * math.pi * k for k in range(lobes)]  # the driven's lobes meet the dwell turn by turn
-        sweeps.append(
-            shapely.union_all([_sweep(d_body, pair, (d0 + t, d1 + t), (d0 - w0 + t, d1 + w1 + t), c, lock, reach) for t in turns])
-        )
+        sweeps.append(shapely.union_all([swept(d_body, pair, (d0 - w0 + t, d1 + w1 + t), c, reach) for t in turns]))
     sweep = shapely.union_all(sweeps)
     n_body = _wire_cut(_largest(shapely.difference(pre, sweep), m), corner_radius)
     if not isinstance(n_body, shapely.Polygon) or n_body.is_empty:
         raise GeometryError("the driven gear falls apart where the driver sweeps through it at the dwells")
-    for (dwell, before, after), lock, sw in zip(dwells, locks, sweeps, strict=True):
+    for (dwell, before, _after), sw in zip(dwells, sweeps, strict=True):
         psi_b = float(pair.psi_in(motions[before], np.radians([motions[before].end]))[0])
         chi = (1 if not ext else -1) * psi_b  # the line of centres in the driven's frame at the dwell
         r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
@@ -658,7 +542,9 @@ def _relief(relieved, body, dwell, chi, half, r_out, lobes) -> dict:
     side of the line of centres ``chi``: the concave arc and the spaces the driver's end teeth
     need), and from the cutter-made teeth beside it (the relief)."""
     turn = 2 * math.pi / lobes
-    zone_wedges = shapely.union_all([_radial(chi + i * turn - half, chi + i * turn + half, 4 * r_out) for i in range(lobes)])
+    zone_wedges = shapely.union_all(
+        [_radial(chi + i * turn - half, chi + i * turn + half, 4 * r_out) for i in range(lobes)]
+    )
     in_zone = shapely.intersection(relieved, zone_wedges)
     teeth = shapely.difference(relieved, zone_wedges)
     pts = shapely.points(shapely.get_coordinates(teeth)) if not teeth.is_empty else []

@@ -468,7 +468,9 @@ def secondary_cut(
         inner = np.diff(centres) < 1.01 * pitch  # a pitch apart: within a sector
         runs = np.split(np.arange(len(centres)), np.flatnonzero(~inner) + 1)
         ends = SECTOR_RUN_OUT
-        gaps = np.concatenate([r[ends : len(r) - 1 - ends] for r in runs if len(r) > 2 * ends + 1] or [np.zeros(0, int)])
+        gaps = np.concatenate(
+            [r[ends : len(r) - 1 - ends] for r in runs if len(r) > 2 * ends + 1] or [np.zeros(0, int)]
+        )
         s = (centres[gaps, None] + pitch * np.arange(per_pitch) / per_pitch).ravel()
         j = centres[np.argmin(np.abs(s[:, None] - centres[None, :]), axis=1)]
     else:

@@ -41,9 +41,9 @@ from transplanter.families.incomplete_pair import LOCKING_PLAY_DEG, IncompletePa
 from transplanter.families.making import Making
 from transplanter.families.manifest import previous_manifest
 from transplanter.families.scripts import Family
+from transplanter.incomplete import LOCK_DEPTH
 from transplanter.pair_gate import per_gear
 from transplanter.pitch import GearPair
-from transplanter.incomplete import LOCK_DEPTH
 from transplanter.pitch.intermittent import IntermittentLaw, is_segmented
 from transplanter.pitch.transmission import size_pair, transmission
 from transplanter.solids import Features
@@ -156,8 +156,21 @@ def pair_family(
             if given:
                 raise SpecError(f"{key} does not apply to an incomplete pair (a law with dwells): leave it out")
         return _incomplete_family(
-            spec, law, internal, teeth, module, centre_distance, backlash, cutter_teeth, rack, width, name,
-            addendum, lock_clearance, lock_depth, locking_play,
+            spec,
+            law,
+            internal,
+            teeth,
+            module,
+            centre_distance,
+            backlash,
+            cutter_teeth,
+            rack,
+            width,
+            name,
+            addendum,
+            lock_clearance,
+            lock_depth,
+            locking_play,
         )
     if lock_clearance is not None or lock_depth != LOCK_DEPTH or locking_play != LOCKING_PLAY_DEG:
         raise SpecError("lock_clearance, lock_depth and locking_play are for incomplete pairs (a law with dwells)")
@@ -213,8 +226,21 @@ def _intermittent(spec) -> IntermittentLaw | None:
 
 
 def _incomplete_family(
-    spec, law, internal, teeth, module, centre_distance, backlash, cutter_teeth, rack, width, name,
-    addendum, lock_clearance, lock_depth, locking_play,
+    spec,
+    law,
+    internal,
+    teeth,
+    module,
+    centre_distance,
+    backlash,
+    cutter_teeth,
+    rack,
+    width,
+    name,
+    addendum,
+    lock_clearance,
+    lock_depth,
+    locking_play,
 ) -> Family:
     """The family of one incomplete pair (see :func:`pair_family`)."""
     if module is None or (teeth is None) == (centre_distance is None):
@@ -232,8 +258,18 @@ def _incomplete_family(
     if internal and addendum == 1.0:
         addendum = (1.0, INTERNAL_RING_ADDENDUM)
     study = IncompletePairStudy(
-        name, law, module, mesh=mesh, teeth=teeth, centre_distance=centre_distance, cutter=cutter, backlash=backlash,
-        lock_clearance=lock_clearance, lock_depth=lock_depth, max_play_deg=locking_play, addendum=addendum,
+        name,
+        law,
+        module,
+        mesh=mesh,
+        teeth=teeth,
+        centre_distance=centre_distance,
+        cutter=cutter,
+        backlash=backlash,
+        lock_clearance=lock_clearance,
+        lock_depth=lock_depth,
+        max_play_deg=locking_play,
+        addendum=addendum,
     )
     pair = study.pair
     making = (

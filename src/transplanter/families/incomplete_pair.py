@@ -52,7 +52,7 @@ from transplanter.families.making import Making, assembly_file, check_shop_files
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.incomplete import LOCK_DEPTH, TRANSITION_PITCHES, IncompleteGears, cut_incomplete, sector_pitches
 from transplanter.pair_gate import per_gear
-from transplanter.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw
+from transplanter.pitch.intermittent import IncompletePair, IntermittentLaw
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
@@ -76,7 +76,8 @@ class IncompletePairStudy(StudyDefaults):
     ``"external"`` or ``"internal"`` (the planet drives its ring); cut by ``cutter`` (a shaper,
     ``ShaperCutter(16)`` by default) for ``backlash`` (mm; None: ISO/TR 10064-2); the locks' radial
     clearance ``lock_clearance`` (mm; default 0.4 of the backlash), how deep the driver's locking
-    arc reaches into the driven's tips ``lock_depth`` (modules), and the locking play the proof holds the dwells and transitions to, ``max_play_deg``
+    arc reaches into the driven's tips ``lock_depth`` (modules), and the locking play the proof
+    holds the dwells and transitions to, ``max_play_deg``
     (deg, the driven's free play in all)."""
 
     cost = 10
@@ -103,7 +104,8 @@ class IncompletePairStudy(StudyDefaults):
         check_number("module", self.module, 0.05, 100.0, unit="mm")
         if (self.teeth is None) == (self.centre_distance is None):
             raise SpecError(
-                f"{self.name}: give exactly one of teeth (the driver's on the first motion's sector) or centre_distance (mm) "
+                f"{self.name}: give exactly one of teeth (the driver's on the first motion's sector) or "
+                "centre_distance (mm) "
                 f"with the module; got teeth={self.teeth!r}, centre_distance={self.centre_distance!r}"
             )
         if self.teeth is not None:
@@ -114,7 +116,9 @@ class IncompletePairStudy(StudyDefaults):
         check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
         check_int("steps", self.steps, 36, 100_000)
         if self.cutter is not None and not isinstance(self.cutter, Cutter):
-            raise SpecError(f"{self.name}: cutter must be a ShaperCutter or RackCutter, got {type(self.cutter).__name__}")
+            raise SpecError(
+                f"{self.name}: cutter must be a ShaperCutter or RackCutter, got {type(self.cutter).__name__}"
+            )
         if self.making is not None and (len(self.making) != 2 or not all(isinstance(m, Making) for m in self.making)):
             raise SpecError(f"{self.name}: making must be a (driver, driven) pair of Making")
 
@@ -140,7 +144,9 @@ class IncompletePairStudy(StudyDefaults):
         try:
             a = optimize.brentq(misfit, 0.3 * guess, 3.0 * guess, xtol=1e-9)
         except ValueError as exc:
-            raise SpecError.out_of_range("teeth", self.teeth, "a tooth count this law's first motion can carry") from exc
+            raise SpecError.out_of_range(
+                "teeth", self.teeth, "a tooth count this law's first motion can carry"
+            ) from exc
         return nominal.scaled(a / 100.0)
 
     @property
@@ -183,7 +189,7 @@ class IncompletePairStudy(StudyDefaults):
         nu = 0.0
         for motion in pair.law.motions:
             phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 2001)
-            r1, dr1 = pair.r1(phi, motion=motion), pair.r1(phi, 1, motion=motion)
+            dr1 = pair.r1(phi, 1, motion=motion)
             r2 = pair.r2(phi, motion=motion)
             dr2 = dr1 / motion.ratio(phi)  # |dr2/dψ|
             nu = max(nu, float(np.max(np.abs(np.arctan2(dr2, r2)))))
@@ -266,29 +272,37 @@ class IncompletePairStudy(StudyDefaults):
             }
             if code == 0 and float(clear[k_clear]) < self.min_clearance:
                 problems.append(
-                    f"{label}: clearance {clear[k_clear] * 1e3:.1f} µm at driver {math.degrees(angle[k_clear]):.2f} deg "
-                    f"is below {self.min_clearance * 1e3:.1f} µm (half the tolerance budget)"
+                    f"{label}: clearance {clear[k_clear] * 1e3:.1f} µm at driver "
+                    f"{math.degrees(angle[k_clear]):.2f} deg is below {self.min_clearance * 1e3:.1f} µm "
+                    "(half the tolerance budget)"
                 )
             if code == 0 and (play[k_lo] < lo or play[k_hi] > hi):
                 problems.append(
-                    f"motion: free play {play[k_lo]:.4g}..{play[k_hi]:.4g} mm leaves the band {lo:.4g}..{hi:.4g} mm (at "
-                    f"driver {math.degrees(angle[k_lo]):.2f} and {math.degrees(angle[k_hi]):.2f} deg)"
+                    f"motion: free play {play[k_lo]:.4g}..{play[k_hi]:.4g} mm leaves the band "
+                    f"{lo:.4g}..{hi:.4g} mm (at driver {math.degrees(angle[k_lo]):.2f} and "
+                    f"{math.degrees(angle[k_hi]):.2f} deg)"
                 )
             if code in (1, 2) and play[k_lo] < lo:
                 problems.append(
-                    f"{label}: free play {play[k_lo] * 1e3:.1f} µm at driver {math.degrees(angle[k_lo]):.2f} deg is below the "
-                    f"tolerance budget {lo * 1e3:.1f} µm: parts off by the tolerance would jam"
+                    f"{label}: free play {play[k_lo] * 1e3:.1f} µm at driver {math.degrees(angle[k_lo]):.2f} deg "
+                    f"is below the tolerance budget {lo * 1e3:.1f} µm: parts off by the tolerance would jam"
                 )
             if code in (1, 2) and deg_play[k_deg] > self.max_play_deg:
                 problems.append(
-                    f"{label}: the driven gear can turn {deg_play[k_deg]:.3f} deg at driver {math.degrees(angle[k_deg]):.2f} "
-                    f"deg, beyond the locking play {self.max_play_deg:g} deg"
+                    f"{label}: the driven gear can turn {deg_play[k_deg]:.3f} deg at driver "
+                    f"{math.degrees(angle[k_deg]):.2f} deg, beyond the locking play {self.max_play_deg:g} deg"
                 )
         if "dwell" in out:  # where the locks hold the driven: the middle of its play, off its law's angle
             uni = self.phases(report.driver_angle) == 1
-            r2u = np.abs(pair.driver.r(report.driver_angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance))
+            r2u = np.abs(
+                pair.driver.r(report.driver_angle)
+                - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance)
+            )
             middle = report.driven_error[uni] + 0.5 * report.backlash[uni] / r2u[uni]
-            out["dwell"]["held_off_law_deg"] = [significant(float(np.degrees(middle.min()))), significant(float(np.degrees(middle.max())))]
+            out["dwell"]["held_off_law_deg"] = [
+                significant(float(np.degrees(middle.min()))),
+                significant(float(np.degrees(middle.max()))),
+            ]
         contacts = report.contacts[self.phases(report.driver_angle) != 1]
         if len(contacts) and int(np.min(contacts)) == 0:
             problems.append("no tooth pair is in contact somewhere in the motion: the driven gear would jump")
@@ -353,7 +367,7 @@ class IncompletePairStudy(StudyDefaults):
             after = motions.index(segs[(segs.index(dwell) + 1) % len(segs)])
             first_space = math.radians(sectors[after][0])
 
-            def gap(phi: float) -> float:
+            def gap(phi: float, held=held, teeth=teeth) -> float:
                 return float(held.distance(shapely.affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True)))
 
             lo, hi = math.radians(dwell.start) + 1e-6, math.radians(dwell.end) + math.radians(30.0)
@@ -377,7 +391,9 @@ class IncompletePairStudy(StudyDefaults):
             out.append(
                 {
                     "dwell_deg": [dwell.start, dwell.end],
-                    "touching": "the locking arc" if body < 0 and abs(r1 - lock.radius) < 1e-3 else "a tooth of the sector",
+                    "touching": "the locking arc"
+                    if body < 0 and abs(r1 - lock.radius) < 1e-3
+                    else "a tooth of the sector",
                     "first_contact_driver_deg": round(math.degrees(hi) % 360, 4),
                     "after_dwell_end_deg": round(math.degrees(hi) - dwell.end, 4),
                     "driver_radius_below_tip_m": round(below1, 4),
@@ -413,7 +429,10 @@ class IncompletePairStudy(StudyDefaults):
 
     def _outlines(self) -> dict[str, bytes]:
         g = self.gears
-        return {f"{self.name}.{role}.outline.csv": formats.CSV.write(gear.toothed_contour) for role, gear in zip(ROLES, g.gears, strict=True)}
+        return {
+            f"{self.name}.{role}.outline.csv": formats.CSV.write(gear.toothed_contour)
+            for role, gear in zip(ROLES, g.gears, strict=True)
+        }
 
     def _proof(self, reports: dict) -> tuple[dict, list[str]]:
         readable, unreadable, problems = formats.split_unreadable(reports)
@@ -459,7 +478,10 @@ class IncompletePairStudy(StudyDefaults):
                 raise GeometryError(f"{self.name}: the made parts do not mesh: " + "; ".join(problems))
             results["assembly"], more = self._assemble(parts, marks, reports["dxf"], files)
             files.update(more)
-            sections = [formats.section_of(f"{self.name}.{r}.dxf", files[f"{self.name}.{r}.dxf"], i) for r, i in zip(ROLES, (False, pair.mesh == "internal"), strict=True)]
+            sections = [
+                formats.section_of(f"{self.name}.{r}.dxf", files[f"{self.name}.{r}.dxf"], i)
+                for r, i in zip(ROLES, (False, pair.mesh == "internal"), strict=True)
+            ]
             results["entry"] = self.entry_contacts(*sections)
         else:
             results["entry"] = self.entry_contacts(g.driver.polygon, g.driven.polygon)
@@ -470,7 +492,12 @@ class IncompletePairStudy(StudyDefaults):
         results["meshing"] = meshing
         files.update(plots.figure_files(self._figure(reports), f"{self.name}.motion"))
         fig = plots.toothed_pair_figure(
-            g.driver.polygon, g.driven.polygon, pair.centre_distance, pair.mesh == "external", float(pair.driver.r(0.0)), self.name
+            g.driver.polygon,
+            g.driven.polygon,
+            pair.centre_distance,
+            pair.mesh == "external",
+            float(pair.driver.r(0.0)),
+            self.name,
         )
         files.update(plots.figure_files(fig, f"{self.name}.teeth"))
         files[f"{self.name}.teeth.json"] = json_bytes({"parameters": self.parameters(), "results": results})
@@ -495,10 +522,16 @@ class IncompletePairStudy(StudyDefaults):
                 f"{self.pair.centre_distance:.4f} mm; law: {self.pair.law.describe()}",
                 f"backlash {self.design_backlash:.4f} mm on the teeth; locking arcs {g.locks[0].radius:.4f} / "
                 f"{g.locks[0].radius + g.locks[0].clearance:.4f} mm about the driver's axis",
-                f"timing mark: {'notch' if gear.internal else 'hole'} dia {mark[2]:.2f} mm at +x meets the mate's at the start",
+                f"timing mark: {'notch' if gear.internal else 'hole'} dia {mark[2]:.2f} mm at +x meets the mate's "
+                "at the start",
             )
             res, shop, part = manufacture(
-                f"{self.name}.{role}", gear.blank, gear.cut, m, notes, lambda pt, gg=gear: f"tooth space {gg.nearest_space(pt)}",
+                f"{self.name}.{role}",
+                gear.blank,
+                gear.cut,
+                m,
+                notes,
+                lambda pt, gg=gear: f"tooth space {gg.nearest_space(pt)}",
                 marks=((mark[0], mark[1], "TIMING"),),
             )
             files.update(shop)
@@ -524,7 +557,9 @@ class IncompletePairStudy(StudyDefaults):
             [f"{math.degrees(a):.4f}", f"{math.degrees(b):.9f}", "dwell" if not mv else "motion"]
             for a, b, mv in zip(phi, sense * pair.law.psi(phi), pair.moving(phi), strict=True)
         ]
-        files[f"{self.name}.motion.csv"] = csv_bytes(["driver_clockwise_deg", "driven_counterclockwise_deg", "phase"], rows)
+        files[f"{self.name}.motion.csv"] = csv_bytes(
+            ["driver_clockwise_deg", "driven_counterclockwise_deg", "phase"], rows
+        )
         files[f"{self.name}.dxf_meshing.csv"] = pair_assembly.meshing_csv(dxf_report)
         files[f"{self.name}.assembly.dxf"] = formats.DXF.assembly(
             self.name,
@@ -556,7 +591,9 @@ class IncompletePairStudy(StudyDefaults):
         results, problems = self._proof(reports)
         if self.making is not None:
             widths = {f"{self.name}.{role}": m.width for role, m in zip(ROLES, self.making, strict=True)}
-            made, more = check_shop_files(files, widths, (f"{self.name}.assembly.3mf", [f"{self.name}.driver", f"{self.name}.driven"]))
+            made, more = check_shop_files(
+                files, widths, (f"{self.name}.assembly.3mf", [f"{self.name}.driver", f"{self.name}.driven"])
+            )
             results["made"] = made
             problems += more
         return Checked(results, problems)
@@ -569,7 +606,9 @@ class IncompletePairStudy(StudyDefaults):
             if isinstance(rep, str):
                 continue
             angle, play = rep.samples("backlash")
-            r2 = np.abs(pair.driver.r(angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance))
+            r2 = np.abs(
+                pair.driver.r(angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance)
+            )
             curves[source] = (np.degrees(angle), np.degrees(play / r2))
         dwells = [(d.start, d.end) for d in pair.law.dwells]
         return plots.intermittent_figure(

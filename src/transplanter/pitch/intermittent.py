@@ -170,7 +170,9 @@ class IntermittentLaw:
             if type(prev) is type(nxt):
                 raise SpecError(f"two {type(prev).__name__.lower()}s follow each other at {prev.end:g} deg: join them")
         if type(segs[0]) is type(segs[-1]):
-            raise SpecError("the law's first and last segments are both " + type(segs[0]).__name__.lower() + "s: join them")
+            raise SpecError(
+                "the law's first and last segments are both " + type(segs[0]).__name__.lower() + "s: join them"
+            )
         object.__setattr__(self, "segments", segs)
         for m in self.motions:
             phi = np.linspace(math.radians(m.start), math.radians(m.end), 2001)
@@ -180,8 +182,9 @@ class IntermittentLaw:
             k = int(np.argmin(i))
             if i[k] < MIN_RATIO:
                 raise GeometryError(
-                    f"the motion {m.start:g}..{m.end:g} deg: its ratio w2/w1 = {i[k]:.4g} at {math.degrees(phi[k]):.2f} deg "
-                    f"is below {MIN_RATIO:g}: the driver's pitch radius a*i/(1+i) shrinks to nothing there and no "
+                    f"the motion {m.start:g}..{m.end:g} deg: its ratio w2/w1 = {i[k]:.4g} at "
+                    f"{math.degrees(phi[k]):.2f} deg is below {MIN_RATIO:g}: the driver's pitch radius a*i/(1+i) "
+                    "shrinks to nothing there and no "
                     "tooth carries it — start and end each motion with a finite speed (the jump is reported)"
                 )
         total = self.total_rise
@@ -189,9 +192,9 @@ class IntermittentLaw:
         if abs(n2 - round(n2)) > CLOSURE_ROUND_OFF * n2 or round(n2) < 1:
             k = max(1, round(n2))
             raise SpecError(
-                f"the law does not close: over a driver turn it turns the driven gear {total / (2 * math.pi):.9g} turns, "
-                f"and a closed driven gear turns 1/n2 of a turn for a whole n2; scaled by {2 * math.pi / k / total:.9g} "
-                f"it would turn 1/{k}"
+                f"the law does not close: over a driver turn it turns the driven gear {total / (2 * math.pi):.9g} "
+                f"turns, and a closed driven gear turns 1/n2 of a turn for a whole n2; scaled by "
+                f"{2 * math.pi / k / total:.9g} it would turn 1/{k}"
             )
 
     # -- construction ----------------------------------------------------------------------
@@ -205,7 +208,9 @@ class IntermittentLaw:
         for part in (p for p in text.split(";") if p.strip()):
             m = _SEGMENT.match(part)
             if m is None:
-                raise SpecError(f"the law's segment {part.strip()!r} is not 'A..B: dwell' or 'A..B: EXPR' (A, B in deg)")
+                raise SpecError(
+                    f"the law's segment {part.strip()!r} is not 'A..B: dwell' or 'A..B: EXPR' (A, B in deg)"
+                )
             try:
                 a, b = float(m.group(1)), float(m.group(2))
             except ValueError as exc:
@@ -374,8 +379,8 @@ class IncompletePair:
                 top = float(m.ratio(phi).max())
                 if top >= 1 - 1e-6:
                     raise GeometryError(
-                        f"an internal incomplete pair (a planet driving its ring) needs the ratio w2/w1 < 1: the motion "
-                        f"{m.start:g}..{m.end:g} deg reaches {top:.4g}"
+                        "an internal incomplete pair (a planet driving its ring) needs the ratio w2/w1 < 1: the "
+                        f"motion {m.start:g}..{m.end:g} deg reaches {top:.4g}"
                     )
 
     @property
@@ -449,5 +454,5 @@ class IncompletePair:
         for m in self.law.motions:
             phi = np.linspace(math.radians(m.start), math.radians(m.end), 4001)
             speed = np.hypot(self.r1(phi), self.r1(phi, 1))
-            out.append(float(np.trapezoid(speed, phi)) if hasattr(np, "trapezoid") else float(np.trapz(speed, phi)))
+            out.append(float(np.sum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))))
         return out

@@ -1,0 +1,166 @@
+"""Incomplete non-circular gears (issue 32): intermittent laws, toothed sectors with locking arcs,
+and the proof of the made parts — the picking arm of ``parts/picking_dwell.py`` as built."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import shapely
+
+from transplanter.cutter import ShaperCutter
+from transplanter.errors import GeometryError, SpecError
+from transplanter.families.gear_pair import pair_family
+from transplanter.families.incomplete_pair import IncompletePairStudy
+from transplanter.machining import wire_violations
+from transplanter.pitch import PitchCurve
+from transplanter.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw, Motion, is_segmented
+from transplanter.teeth import generate
+
+LAW = "0..60: dwell; 60..360: 2*pi*(phi - pi/3)/(5*pi/3) - 0.35*sin(2*pi*(phi - pi/3)/(5*pi/3))"
+
+
+def test_a_law_of_segments_reads_and_states_its_jumps():
+    law = IntermittentLaw.parse(LAW)
+    assert law.turn_fraction == 1 and len(law.dwells) == 1 and is_segmented(LAW) and not is_segmented("phi")
+    phi = np.radians([30.0, 60.0, 210.0, 359.999])
+    assert np.allclose(law.psi(phi)[:2], 0.0) and law.psi(phi)[3] == pytest.approx(2 * math.pi, abs=1e-4)
+    assert law.ratio(np.radians([30.0]))[0] == 0.0
+    entry, exit_ = law.transitions()
+    # the driven's speed jumps from 0 to 0.78 of the driver's as the motion starts, and back at its end
+    assert entry.kind == "entry" and entry.speed_jump == pytest.approx(0.78, abs=1e-9)
+    assert exit_.kind == "exit" and exit_.speed_jump == pytest.approx(-0.78, abs=1e-9)
+    same = IntermittentLaw((Dwell(0, 60), Motion(60, 360, LAW.split(": ")[-1])))
+    assert same.psi(phi) == pytest.approx(law.psi(phi), abs=1e-12)
+
+
+def test_a_csv_marks_its_dwells_with_zero_rows():
+    deg = np.arange(0.0, 360.0, 5.0)
+    ratio = np.where(deg < 90, 0.0, 360 / 265)  # the motion rows span 90..355 deg: one driven turn
+    rows = "".join(f"{a},{r}\n" for a, r in zip(deg, ratio, strict=True))
+    law = IntermittentLaw.from_csv(b"phi_deg,ratio\n" + rows.encode())
+    (dwell,) = law.dwells
+    # the dwell spans from the last row of the motion to the first of the next
+    assert (dwell.start % 360, dwell.end % 360) == (355.0, 90.0)
+    assert law.turn_fraction == 1 and law.total_rise == pytest.approx(2 * math.pi, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("text", "error", "words"),
+    [
+        ("0..60: dwell; 70..360: phi", SpecError, "follow each other"),
+        ("0..60: dwell; 60..300: 1.2*phi", SpecError, "one driver turn"),
+        ("0..360: 2*phi", SpecError, "at least one dwell"),
+        ("0..60: dwell; 60..360: 1.1*(phi - pi/3)", SpecError, "does not close"),
+        ("0..60: dwell; 60..360: 1.2*(phi-pi/3) - sin(1.2*(phi-pi/3))", GeometryError, "finite speed"),
+        ("0..60: dwell; 60..360: __import__('os')", SpecError, "calls something other than"),
+        ("0..60: dwell; 60..360 phi", SpecError, "A..B"),
+    ],
+)
+def test_a_bad_law_is_refused_naming_what_is_wrong(text, error, words):
+    with pytest.raises(error) as info:
+        IntermittentLaw.parse(text)
+    assert words in str(info.value)
+
+
+def test_a_planet_driving_its_ring_needs_a_ratio_below_one():
+    with pytest.raises(GeometryError, match="< 1"):
+        IncompletePair(IntermittentLaw.parse(LAW), 50.0, "internal")
+
+
+def test_a_toothed_sector_cuts_only_its_spaces():
+    m = 2.0
+    curve = PitchCurve.circle(30 * m / 2)  # 30 teeth' worth of pitch circle
+    spaces = math.pi * m * np.arange(5, 12)
+    gear = generate(curve, ShaperCutter(16, m), None, spaces=spaces)
+    assert gear.teeth == len(spaces) and len(gear.spaces) == len(spaces)
+    # the rest of the rim is the blank: uncut tip circle over the other 23 pitches
+    r = np.linalg.norm(gear.toothed_contour, axis=1)
+    assert np.isclose(r, curve.r(0.0) + m, atol=1e-3).mean() > 0.5
+    assert gear.tip_lands[-1] == math.inf
+
+
+def test_a_curved_sliver_thinner_than_the_tolerance_is_no_wire_violation():
+    # a ring whose closing leaves a 2 µm crescent along 3 mm of a 74 mm arc: within the shop's tolerance
+    ring = shapely.Point(0, 0).buffer(74.0, quad_segs=512)
+    notch = shapely.Point(74.0 + 0.002 - 40.0, 0.0).buffer(40.0, quad_segs=2048)
+    assert wire_violations(shapely.difference(ring, notch), 0.145).is_empty
+
+
+def test_pair_family_makes_an_incomplete_pair_from_a_law_and_refuses_what_does_not_apply():
+    fam = pair_family(LAW, module=3.0, teeth=30)
+    (study,) = fam.parts
+    assert isinstance(study, IncompletePairStudy) and study.making is not None
+    assert "incomplete" in fam.description
+    with pytest.raises(SpecError, match="shift does not apply"):
+        pair_family(LAW, module=3.0, teeth=30, shift=0.2)
+    with pytest.raises(SpecError, match="module and one of teeth"):
+        pair_family(LAW, teeth=30, centre_distance=90.0)
+    with pytest.raises(SpecError, match="for incomplete pairs"):
+        pair_family("phi - 0.08*sin(2*phi)", teeth=24, module=1.5, lock_clearance=0.05)
+
+
+def test_pair_cli_refuses_an_option_of_full_pairs_for_a_law_with_dwells(tmp_path):
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "transplanter",
+            "pair",
+            LAW,
+            "--module",
+            "3",
+            "--teeth",
+            "30",
+            "--shift",
+            "0.1",
+            "-o",
+            str(tmp_path),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert run.returncode == 2 and "shift does not apply to an incomplete pair" in run.stderr
+    assert not any(tmp_path.iterdir())
+
+
+@pytest.fixture(scope="module")
+def picker(built):
+    manifest = json.loads((built / "picking_dwell" / "manifest.json").read_text())
+    rec = manifest["parts"]["picker"]
+    assert "error" not in rec, rec.get("error")
+    return rec
+
+
+def test_the_picking_arm_meshes_on_its_reread_files_and_the_locks_hold_it(picker):
+    res = picker["results"]
+    play = picker["parameters"]["locking_play_deg"]
+    for source in ("dxf", "stl"):
+        m = res["meshing"][source]
+        assert m["problems"] == [] and m["max_penetration_mm2"] == 0.0
+        assert m["dwell"]["largest_play_deg"] <= play and m["transition"]["largest_play_deg"] <= play
+        lo, hi = picker["parameters"]["backlash_band_mm"]
+        assert lo <= m["motion"]["free_play_mm"][0] and m["motion"]["free_play_mm"][1] <= hi
+        assert m["refined_samples"] > 0  # the extremes were refined between the samples
+    assert {"driver.dxf", "driven.dxf", "driver.step", "driven.step", "assembly.3mf"} <= {
+        f.split(".", 1)[1] for f in picker["files"]
+    }
+
+
+def test_the_picking_arm_dwells_where_and_as_long_as_asked(picker):
+    res = picker["results"]
+    (dwell,) = res["dwells"]
+    (entry,) = res["entry"]
+    # the first tooth meets the held arm a tenth of a degree after the asked end, on its flank
+    assert 0 <= entry["after_dwell_end_deg"] < 0.5 and not entry["tip_on_tip"]
+    assert entry["driver_radius_below_tip_m"] > 0.5
+    assert abs(dwell["made_duration_deg"] - dwell["asked_duration_deg"]) < 0.5
+    assert max(abs(v) for v in dwell["held_off_law_deg"]) < picker["parameters"]["locking_play_deg"] / 2
+    (jump_in, jump_out) = res["transitions"]
+    assert jump_in["speed_jump_w2_per_w1"] == pytest.approx(0.78, abs=1e-6)
+    assert jump_out["speed_jump_w2_per_w1"] == pytest.approx(-0.78, abs=1e-6)
