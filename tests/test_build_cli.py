@@ -47,6 +47,7 @@ def test_build_all_families_twice_is_byte_identical(tmp_path, parts_dir, built):
         "fourbar_seed000",
         "fourbar_seed001",
         "fourbar_seed003",
+        "picking_dwell",
         "planetary_seed004",
         "potseedling_seed002",
     }

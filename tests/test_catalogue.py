@@ -133,7 +133,8 @@ CSVS = [
     ("nan", _rows(f=lambda d: float("nan")).encode(), "must be finite"),
     ("inf", _rows(f=lambda d: float("inf")).encode(), "must be finite"),
     ("negative ratio", _rows(f=lambda d: -1.0).encode(), "> 0"),
-    ("zero ratio", _rows(f=lambda d: 0.0).encode(), "> 0"),
+    # a zero row marks a dwell (an incomplete pair): all zeros is a dwell without a motion
+    ("zero ratio", _rows(f=lambda d: 0.0).encode(), "rows with a positive ratio (a motion)"),
     ("decreasing", "".join(f"{d},1\n" for d in range(350, -1, -10)).encode(), "increase within"),
     ("duplicate angle", ("0,1\n" + _rows()).encode(), "increase within"),
     ("radians", "".join(f"{k * 0.2},1\n" for k in range(31)).encode(), "look like radians"),

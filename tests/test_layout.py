@@ -25,6 +25,7 @@ LAYERS = (
         "pair_gate",
         "cutter_choice",
         "solids",
+        "sweep",
         "incomplete",
     ),
     ("clearance", "arm_parts", "carrier_parts"),

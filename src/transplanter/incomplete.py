@@ -54,7 +54,7 @@ __all__ = ["SectorGear", "Lock", "IncompleteGears", "cut_incomplete", "virtual_c
 #: samples per degree of a sector's true pitch curve in its virtual closed curve
 CURVE_SAMPLES_PER_DEG = 8
 #: the transition window either side of a dwell, in circular pitches of roll
-TRANSITION_PITCHES = 2.5
+TRANSITION_PITCHES = 1.5
 #: how far the driver's locking arc reaches into the driven's tips on the line of centres, modules:
 #: a shallow arc keeps the driven's entry and exit teeth out of the pocket it sweeps (the lock's
 #: lever, the horns' half-angle, grows as its square root)
@@ -390,7 +390,7 @@ def cut_incomplete(
         check_number("lock radius", r_lock, 0.0, low_open=True, unit="mm")
         beta, alpha = _horns(a, r_lock + c, tip2)
         lever = beta if ext else math.pi - beta
-        zone = alpha * r2b + TRANSITION_PITCHES * math.pi * m  # the roll whose teeth pass the lock zone
+        zone = alpha * r2b  # the lock's half-width, as roll on the driven
         zones[before][1], zones[after][0] = zone, zone
         play = math.degrees(c / (a * abs(math.sin(lever))))
         locks.append(Lock((dwell.start, dwell.end), r_lock, c, math.degrees(lever), play))
@@ -479,7 +479,7 @@ def cut_incomplete(
         psi_b = float(pair.psi_in(motions[before], np.radians([motions[before].end]))[0])
         chi = (1 if not ext else -1) * psi_b  # the line of centres in the driven's frame at the dwell
         r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
-        half = (zones[before][1] + 2 * math.pi * m) / r2b
+        half = (zones[before][1] + TRANSITION_PITCHES * math.pi * m) / r2b
         reach = reacher(chi, half)
         turns = [2 * math.pi * k for k in range(lobes)]  # the driven's lobes meet the dwell turn by turn
         sweeps.append(shapely.union_all([swept(d_body, pair, (d0 - w0 + t, d1 + w1 + t), c, reach) for t in turns]))

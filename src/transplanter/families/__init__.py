@@ -38,6 +38,11 @@ Study kinds so far
     meshing, the clearance of every two bodies that could meet (bounded, not sampled),
     objectives i and ii on the bodies, the motion table, an animated GIF, a slider for the
     report and a 3MF of the machine's parts.
+``IncompletePairStudy``
+    Incomplete non-circular gears from a law of dwells and motions: toothed sectors by the
+    cutter's envelope, locking arcs, the transitions relieved by the driver's sweep; DXF, STL,
+    STEP, 3MF, the motion with its dwells, and the proof per phase (motion, dwell, transition) on
+    the re-read files, the entry contact and the dwell as made against the dwell asked.
 ``PitchPairStudy``
     A conjugate pair of pitch curves: closure, ratio check, curvature, pressure angle,
     tooth count and module (JSON), the curves as CSV points, and plots.
