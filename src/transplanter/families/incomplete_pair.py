@@ -80,7 +80,7 @@ class IncompletePairStudy(StudyDefaults):
     holds the dwells and transitions to, ``max_play_deg``
     (deg, the driven's free play in all)."""
 
-    cost = 10
+    cost = 12  # its sweep and three proofs: start it first
 
     name: str
     law: IntermittentLaw
