@@ -155,23 +155,8 @@ def pair_family(
         for key, given in refused.items():
             if given:
                 raise SpecError(f"{key} does not apply to an incomplete pair (a law with dwells): leave it out")
-        return _incomplete_family(
-            spec,
-            law,
-            internal,
-            teeth,
-            module,
-            centre_distance,
-            backlash,
-            cutter_teeth,
-            rack,
-            width,
-            name,
-            addendum,
-            lock_clearance,
-            lock_depth,
-            locking_play,
-        )
+        stated = locals()
+        return _incomplete_family(spec, law, **{k: stated[k] for k in _INCOMPLETE_OPTIONS})
     if lock_clearance is not None or lock_depth != LOCK_DEPTH or locking_play != LOCKING_PLAY_DEG:
         raise SpecError("lock_clearance, lock_depth and locking_play are for incomplete pairs (a law with dwells)")
     inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
@@ -225,9 +210,28 @@ def _intermittent(spec) -> IntermittentLaw | None:
     return None
 
 
+#: what an incomplete pair takes of :func:`pair_family`'s options
+_INCOMPLETE_OPTIONS = (
+    "internal",
+    "teeth",
+    "module",
+    "centre_distance",
+    "backlash",
+    "cutter_teeth",
+    "rack",
+    "width",
+    "name",
+    "addendum",
+    "lock_clearance",
+    "lock_depth",
+    "locking_play",
+)
+
+
 def _incomplete_family(
     spec,
     law,
+    *,
     internal,
     teeth,
     module,
