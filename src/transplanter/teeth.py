@@ -298,8 +298,8 @@ def generate(
         at the curve's start (a mating gear takes the other).
     spaces : array or None
         A **toothed sector** (incomplete gears, :mod:`transplanter.incomplete`): the arc lengths
-        (mm, increasing, spanning less than a turn less 1.5 pitches) of the only tooth-space centres to cut, one
-        circular pitch ``π m`` apart; the rest of the curve is left as the blank, so the
+        (mm, increasing, spanning less than a turn less 1.5 pitches) of the only tooth-space
+        centres to cut, one circular pitch ``π m`` apart; the rest of the curve is left as the blank, so the
         perimeter need not be a whole number of teeth and ``teeth`` is the number of spaces.
     """
     require_cutter(cutter)
@@ -459,7 +459,7 @@ def secondary_cut(
     cutter's other teeth would have cut it (secondary cutting on ring gears, or interference).
     A gear that turns onto itself ``turns`` times a revolution (:func:`_symmetry`) is checked
     over one such sector: the others repeat it. ``centres`` (a toothed sector's space centres,
-    arc lengths) limits the rolls to the sector and a pitch either side.
+    arc lengths) limits the rolls to the sector, ``SECTOR_RUN_OUT`` pitches clear of its ends.
     """
     if centres is not None:
         pitch = cutter.pitch

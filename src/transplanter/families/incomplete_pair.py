@@ -620,9 +620,3 @@ class IncompletePairStudy(StudyDefaults):
             curves,
             self.max_play_deg,
         )
-
-
-def _fan(a0: float, a1: float, radius: float) -> shapely.Polygon:
-    """The sector of angles a0..a1 (rad) out to ``radius``."""
-    a = np.linspace(a0, a1, 181)
-    return shapely.Polygon(np.vstack([[0.0, 0.0], np.column_stack([radius * np.cos(a), radius * np.sin(a)])]))
