@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import json
 import math
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 import shapely
 
+from transplanter import cli
 from transplanter.cutter import ShaperCutter
 from transplanter.errors import GeometryError, SpecError
 from transplanter.families.gear_pair import pair_family
@@ -104,28 +103,10 @@ def test_pair_family_makes_an_incomplete_pair_from_a_law_and_refuses_what_does_n
         pair_family("phi - 0.08*sin(2*phi)", teeth=24, module=1.5, lock_clearance=0.05)
 
 
-def test_pair_cli_refuses_an_option_of_full_pairs_for_a_law_with_dwells(tmp_path):
-    run = subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "transplanter",
-            "pair",
-            LAW,
-            "--module",
-            "3",
-            "--teeth",
-            "30",
-            "--shift",
-            "0.1",
-            "-o",
-            str(tmp_path),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
-    assert run.returncode == 2 and "shift does not apply to an incomplete pair" in run.stderr
+def test_pair_cli_refuses_an_option_of_full_pairs_for_a_law_with_dwells(tmp_path, capsys):
+    argv = ["pair", LAW, "--module", "3", "--teeth", "30", "--shift", "0.1", "-o", str(tmp_path)]
+    assert cli.main(argv) == 2
+    assert "shift does not apply to an incomplete pair" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
 
 

@@ -233,7 +233,10 @@ class IncompletePairStudy(StudyDefaults):
             except Exception as exc:  # noqa: BLE001 - any unreadable file is a finding, said in words
                 out[source] = str(exc)
                 continue
-            out[source] = validate.mesh_check(self.pair, *polys, self.module, steps=self.steps, refine=True)
+            # the outlines are the design's gate before anything is made: half the steps (refined all the
+            # same); the shop files are proved at the full count
+            steps = self.steps // 2 if source == "outline" and self.making is not None else self.steps
+            out[source] = validate.mesh_check(self.pair, *polys, self.module, steps=steps, refine=True)
         return out
 
     def judge(self, report) -> tuple[dict, list[str]]:
