@@ -145,3 +145,9 @@ def test_the_picking_arm_dwells_where_and_as_long_as_asked(picker):
     (jump_in, jump_out) = res["transitions"]
     assert jump_in["speed_jump_w2_per_w1"] == pytest.approx(0.78, abs=1e-6)
     assert jump_out["speed_jump_w2_per_w1"] == pytest.approx(-0.78, abs=1e-6)
+
+
+def test_the_command_line_says_an_incomplete_pairs_proof_per_phase(picker):
+    # what `pair` and `check --run-script` print for each source (it raised KeyError before)
+    line = cli._phases_line(picker["results"]["meshing"]["dxf"])
+    assert line.startswith("overlap 0 mm², motion free play") and "dwell play <=" in line and "transition play" in line

@@ -253,7 +253,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
                 if "error" in r:  # an unreadable file: reported with the problems below
                     continue
                 if "max_penetration_mm2" in r:
-                    line = _mesh_line(r)
+                    line = _phases_line(r) if "dwell" in r or "motion" in r else _mesh_line(r)
                     if "train" in r:
                         line += f", train tip deviation {_fmt_um(r['train']['max_tip_deviation_mm'])}"
                 elif "max_error_mm" in r:
@@ -325,6 +325,18 @@ def _cmd_pair(args: argparse.Namespace) -> int:
     return 0
 
 
+def _phases_line(r: dict) -> str:
+    """An incomplete pair's meshing figures (one source), per phase, in words."""
+    parts = []
+    if "motion" in r:
+        lo, hi = r["motion"]["free_play_mm"]
+        parts.append(f"motion free play {_fmt_um(lo)}..{_fmt_um(hi)}")
+    for phase in ("dwell", "transition"):
+        if phase in r:
+            parts.append(f"{phase} play <= {r[phase]['largest_play_deg']:.3f} deg")
+    return f"overlap {r['max_penetration_mm2']:.3g} mm², " + ", ".join(parts)
+
+
 def _print_incomplete(rec: dict, folder: Path) -> int:
     """What ``pair`` says of an incomplete pair: locks, entry shocks and the proof per phase."""
     res = rec["results"]
@@ -354,15 +366,7 @@ def _print_incomplete(rec: dict, folder: Path) -> int:
                 f"driver's tip, {e['driven_radius_from_tip_m']:.2f} m from the driven's"
             )
     for source, r in sorted((k, v) for k, v in res["meshing"].items() if isinstance(v, dict)):
-        parts = []
-        if "motion" in r:
-            parts.append(
-                f"motion free play {_fmt_um(r['motion']['free_play_mm'][0])}..{_fmt_um(r['motion']['free_play_mm'][1])}"
-            )
-        for phase in ("dwell", "transition"):
-            if phase in r:
-                parts.append(f"{phase} play <= {r[phase]['largest_play_deg']:.3f} deg")
-        print(f"  meshing [{source}]: overlap {r['max_penetration_mm2']:.3g} mm², " + ", ".join(parts))
+        print(f"  meshing [{source}]: {_phases_line(r)}")
     shop = [f for f in rec["files"] if f.endswith((".dxf", ".stl", ".step", ".3mf"))]
     print(f"  shop files: {', '.join(shop)}")
     print(f"ok -> {folder} (report.html)")
