@@ -127,9 +127,9 @@ def pair_family(
         Accept an undercut flank instead of refusing it (``--allow-undercut``).
     lock_clearance, lock_depth, locking_play
         Incomplete pairs (a law with dwells, :mod:`transplanter.pitch.intermittent`): the locks'
-        radial clearance (mm; default 0.4 of the backlash), the locking arc's height above the end
-        pitch radius (modules; the end teeth are relieved to it) and the locking play the proof
-        holds the dwells and transitions to (deg).
+        radial clearance (mm; default 0.4 of the backlash), how deep the driver's locking arc reaches
+        into the driven's tips (modules, default 0.3) and the locking play the proof holds the
+        dwells and transitions to (deg, default 2).
 
     **Incomplete pairs.** A ``spec`` of segments (``"0..60: dwell; 60..360: EXPR"``) or a ratio
     CSV with zero rows (the dwells) makes an incomplete pair
