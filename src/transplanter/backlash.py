@@ -37,7 +37,7 @@ import numpy as np
 from transplanter.errors import SpecError, check_number, finite_positive
 from transplanter.tolerances import WIRE_EDM_TOLERANCE
 
-__all__ = ["design_backlash", "tolerance_budget", "backlash_band", "resolve_backlash"]
+__all__ = ["design_backlash", "tolerance_budget", "backlash_band", "band_of", "resolve_backlash"]
 
 _ALPHA = math.radians(20.0)
 
@@ -87,7 +87,12 @@ def backlash_band(pair, backlash: float, tolerance: float = WIRE_EDM_TOLERANCE, 
     ``j / cos ν_max · BAND_FACTOR + BAND_SLACK_MM``.
     """
     psi = 2 * math.pi * np.arange(n) / n
-    nu = float(np.max(np.abs(pair.driven.pressure_deviation(psi))))
+    return band_of(backlash, float(np.max(np.abs(pair.driven.pressure_deviation(psi)))), tolerance)
+
+
+def band_of(backlash: float, nu: float, tolerance: float = WIRE_EDM_TOLERANCE) -> tuple[float, float]:
+    """The band of :func:`backlash_band` for a driven pitch curve whose largest pressure deviation
+    is ``nu`` (rad): what an incomplete pair's sectors are held to as well."""
     j = float(backlash)
     low = tolerance_budget(tolerance) if j > 0 else 0.0
     return low, j / math.cos(nu) * BAND_FACTOR + BAND_SLACK_MM

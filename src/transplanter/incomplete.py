@@ -45,7 +45,7 @@ from transplanter.pair_gate import per_gear
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.intermittent import Dwell, IncompletePair, Motion
 from transplanter.pitch.periodic import PeriodicSpline
-from transplanter.sweep import swept
+from transplanter.sweep import swept, turned
 from transplanter.teeth import generate, require_cutter
 
 __all__ = ["SectorGear", "Lock", "IncompleteGears", "cut_incomplete", "virtual_curve", "sector_pitches", "LOCK_DEPTH"]
@@ -190,11 +190,6 @@ def _turn(geom, angle: float):
     return affinity.rotate(geom, angle, origin=(0.0, 0.0), use_radians=True)
 
 
-def _rot(points: np.ndarray, angle) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    return np.stack([c * points[..., 0] - s * points[..., 1], s * points[..., 0] + c * points[..., 1]], axis=-1)
-
-
 def _path(pair: IncompletePair, motion: Motion, cutter: Cutter, addendum, end: bool) -> tuple[float, float]:
     """(approach, recess) of the path of contact at the motion's start or ``end``, as pitch-curve
     roll (mm): the osculating circles of the two pitch curves there, involute teeth of the
@@ -241,11 +236,8 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
     the driven's virtual curve."""
     m = cutter.module
     pitch = math.pi * m
-    a, b = math.radians(motion.start), math.radians(motion.end)
-    phi = np.linspace(a, b, max(400, int((motion.end - motion.start) * CURVE_SAMPLES_PER_DEG)) + 1)
+    phi, u = pair.roll(motion, max(400, int((motion.end - motion.start) * CURVE_SAMPLES_PER_DEG)) + 1)
     r1, dr1 = pair.r1(phi, motion=motion), pair.r1(phi, 1, motion=motion)
-    speed = np.hypot(r1, dr1)
-    u = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))])  # rolled arc, mm
     length = float(u[-1])
     centres = _tooth_centres(pair, motion, cutter, addendum, length)
     internal = role == "driven" and pair.mesh == "internal"
@@ -294,8 +286,8 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
         _turn(gear.polygon, origin),
         _turn(tip, origin),
         _turn(gear.cut, origin),
-        _rot(points, origin),
-        _rot(normals, origin),
+        turned(points, origin),
+        turned(normals, origin),
         teeth * lobes,
     )
 
@@ -312,16 +304,9 @@ def _dwells(pair: IncompletePair) -> list[tuple[Dwell, int, int]]:
     return out
 
 
-def _roll_table(pair: IncompletePair, motion: Motion) -> tuple[np.ndarray, np.ndarray]:
-    """Driver angles (rad) over ``motion`` and the pitch-curve length rolled from its start (mm)."""
-    phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 4001)
-    speed = np.hypot(pair.r1(phi, motion=motion), pair.r1(phi, 1, motion=motion))
-    return phi, np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))])
-
-
 def _roll_angle(pair: IncompletePair, motion: Motion, distance: float, from_end: bool) -> float:
     """The driver angle (rad) that rolls ``distance`` (mm) from the motion's start or end."""
-    phi, u = _roll_table(pair, motion)
+    phi, u = pair.roll(motion)
     d = min(distance, float(u[-1]))
     at = float(np.interp(u[-1] - d if from_end else d, u, phi))
     return float(phi[-1] - at) if from_end else float(at - phi[0])
@@ -481,17 +466,14 @@ def cut_incomplete(
         half = (zones[before][1] + TRANSITION_PITCHES * math.pi * m) / r2b
         reach = reacher(chi, half)
         turns = [2 * math.pi * k for k in range(lobes)]  # the driven's lobes meet the dwell turn by turn
-        sweeps.append(shapely.union_all([swept(d_body, pair, (d0 - w0 + t, d1 + w1 + t), c, reach) for t in turns]))
-    sweep = shapely.union_all(sweeps)
+        sw = shapely.union_all([swept(d_body, pair, (d0 - w0 + t, d1 + w1 + t), c, reach) for t in turns])
+        sweeps.append((sw, chi, zones[before][1] / r2b))
+    sweep = shapely.union_all([sw for sw, _, _ in sweeps])
     n_body = _wire_cut(_largest(shapely.difference(pre, sweep), m), corner_radius)
     if not isinstance(n_body, shapely.Polygon) or n_body.is_empty:
         raise GeometryError("the driven gear falls apart where the driver sweeps through it at the dwells")
-    for (dwell, before, _after), sw in zip(dwells, sweeps, strict=True):
-        psi_b = float(pair.psi_in(motions[before], np.radians([motions[before].end]))[0])
-        chi = (1 if not ext else -1) * psi_b  # the line of centres in the driven's frame at the dwell
-        r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
-        relieved = shapely.intersection(pre, sw)
-        relief.append(_relief(relieved, n_body, dwell, chi, zones[before][1] / r2b, r_out, lobes))
+    for (dwell, _before, _after), (sw, chi, zone_half) in zip(dwells, sweeps, strict=True):
+        relief.append(_relief(shapely.intersection(pre, sw), n_body, dwell, chi, zone_half, r_out, lobes))
     driven = SectorGear(
         n_body,
         *_made_of(n_body),

@@ -20,7 +20,7 @@ import shapely
 
 from transplanter.pitch.intermittent import IncompletePair
 
-__all__ = ["swept", "edge_hulls", "posed_in", "SWEEP_STEP_DEG", "SWEEP_SIMPLIFY_MM"]
+__all__ = ["swept", "edge_hulls", "posed_in", "turned", "SWEEP_STEP_DEG", "SWEEP_SIMPLIFY_MM"]
 
 #: pose step of the sweep, driver degrees (its chord error is added to the growth)
 SWEEP_STEP_DEG = 1.0
@@ -30,7 +30,8 @@ SWEEP_SIMPLIFY_MM = 0.5e-3
 ROUND_SEGMENTS = 128
 
 
-def _rot(points: np.ndarray, angle) -> np.ndarray:
+def turned(points: np.ndarray, angle) -> np.ndarray:
+    """Points (..., 2) turned about the origin by ``angle`` (rad; broadcast against the points)."""
     c, s = np.cos(angle), np.sin(angle)
     return np.stack([c * points[..., 0] - s * points[..., 1], s * points[..., 0] + c * points[..., 1]], axis=-1)
 
@@ -44,8 +45,8 @@ def posed_in(points: np.ndarray, pair: IncompletePair, phi: np.ndarray, each: bo
     psi = pair.law.psi(phi)
     psi2 = np.pi + psi if pair.mesh == "external" else -psi
     if each:
-        return _rot(_rot(points, -phi) - (centre, 0.0), -psi2)
-    return _rot(_rot(points[None], -phi[:, None]) - (centre, 0.0), -psi2[:, None])
+        return turned(turned(points, -phi) - (centre, 0.0), -psi2)
+    return turned(turned(points[None], -phi[:, None]) - (centre, 0.0), -psi2[:, None])
 
 
 def swept(driver: shapely.Polygon, pair: IncompletePair, window: tuple[float, float], grow: float, reach):

@@ -43,7 +43,7 @@ import shapely
 from scipy import optimize
 
 from transplanter import formats, plots, validate
-from transplanter.backlash import BAND_FACTOR, BAND_SLACK_MM, design_backlash, tolerance_budget
+from transplanter.backlash import band_of, design_backlash, tolerance_budget
 from transplanter.cutter import Cutter, ShaperCutter
 from transplanter.errors import GeometryError, SpecError, check_int, check_number
 from transplanter.export import csv_bytes, json_bytes
@@ -193,8 +193,7 @@ class IncompletePairStudy(StudyDefaults):
             r2 = pair.r2(phi, motion=motion)
             dr2 = dr1 / motion.ratio(phi)  # |dr2/dψ|
             nu = max(nu, float(np.max(np.abs(np.arctan2(dr2, r2)))))
-        j = self.design_backlash
-        return tolerance_budget(self.tolerance), j / math.cos(nu) * BAND_FACTOR + BAND_SLACK_MM
+        return band_of(self.design_backlash, nu, self.tolerance)
 
     @property
     def min_clearance(self) -> float:
@@ -207,9 +206,7 @@ class IncompletePairStudy(StudyDefaults):
         out = np.where(pair.moving(phi), 0, 1)
         deg = np.mod(np.degrees(phi), 360.0)
         for k, motion in enumerate(pair.law.motions):
-            table_phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 2001)
-            speed = np.hypot(pair.r1(table_phi, motion=motion), pair.r1(table_phi, 1, motion=motion))
-            u = np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(table_phi))])
+            table_phi, u = pair.roll(motion, 2001)
             zone = self.gears.zones[k]
             reach = TRANSITION_PITCHES * math.pi * self.module
             a = math.degrees(float(np.interp(min(zone[0] + reach, u[-1]), u, table_phi)))

@@ -448,6 +448,13 @@ class IncompletePair:
         radii = None if self.lock_radii is None else tuple(r * k for r in self.lock_radii)
         return IncompletePair(self.law, self.centre_distance * k, self.mesh, radii)
 
+    def roll(self, motion: Motion, samples: int = 4001) -> tuple[np.ndarray, np.ndarray]:
+        """Driver angles (rad, ``samples`` over ``motion``) and the pitch-curve length rolled from the
+        motion's start to each (mm, trapezoidal in the exact speed ``hypot(r1, r1')``)."""
+        phi = np.linspace(math.radians(motion.start), math.radians(motion.end), samples)
+        speed = np.hypot(self.r1(phi, motion=motion), self.r1(phi, 1, motion=motion))
+        return phi, np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))])
+
     def sector_lengths(self) -> list[float]:
         """The pitch-curve length each motion rolls, mm (the same on both gears)."""
         out = []
