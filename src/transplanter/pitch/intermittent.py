@@ -456,10 +456,6 @@ class IncompletePair:
         return phi, np.concatenate([[0.0], np.cumsum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))])
 
     def sector_lengths(self) -> list[float]:
-        """The pitch-curve length each motion rolls, mm (the same on both gears)."""
-        out = []
-        for m in self.law.motions:
-            phi = np.linspace(math.radians(m.start), math.radians(m.end), 4001)
-            speed = np.hypot(self.r1(phi), self.r1(phi, 1))
-            out.append(float(np.sum(0.5 * (speed[1:] + speed[:-1]) * np.diff(phi))))
-        return out
+        """The pitch-curve length each motion rolls, mm (the same on both gears), by :meth:`roll`:
+        the motion's own law up to its ends (the law's dispatch puts a boundary in the dwell)."""
+        return [float(self.roll(m)[1][-1]) for m in self.law.motions]
