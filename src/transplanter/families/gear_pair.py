@@ -45,7 +45,7 @@ from transplanter.incomplete import LOCK_DEPTH
 from transplanter.pair_gate import per_gear
 from transplanter.pitch import GearPair
 from transplanter.pitch.intermittent import IntermittentLaw, is_segmented
-from transplanter.pitch.transmission import size_pair, transmission
+from transplanter.pitch.transmission import csv_table, size_pair, transmission
 from transplanter.solids import Features
 
 __all__ = ["gear_pair", "pair_family", "BORE_FRACTION", "DEFAULT_WIDTH"]
@@ -200,13 +200,8 @@ def _intermittent(spec) -> IntermittentLaw | None:
     if is_segmented(spec):
         return IntermittentLaw.parse(spec)
     if spec.strip().lower().endswith(".csv"):
-        data = inputs.read_data_file("ratio CSV", spec.strip(), inputs.MAX_CSV_BYTES)
-        rows = [r.split(b",") for r in data.splitlines()[1:] if r.strip()]
-        try:
-            zero = any(len(r) == 2 and float(r[1]) == 0.0 for r in rows)
-        except ValueError:
-            return None  # the full pair's reader says what is wrong with it
-        return IntermittentLaw.from_csv(data) if zero else None
+        deg, ratio = csv_table(inputs.read_data_file("ratio CSV", spec.strip(), inputs.MAX_CSV_BYTES))
+        return IntermittentLaw.from_table(deg, ratio) if np.any(ratio == 0) else None
     return None
 
 

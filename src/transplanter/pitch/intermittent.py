@@ -43,10 +43,8 @@ Examples
 
 from __future__ import annotations
 
-import io
 import math
 import re
-import warnings
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -55,7 +53,7 @@ from numpy.polynomial import Chebyshev
 from scipy.interpolate import CubicSpline
 
 from transplanter.errors import GeometryError, SpecError, check_number, finite_positive
-from transplanter.pitch.transmission import _compile
+from transplanter.pitch.transmission import _compile, csv_table
 
 __all__ = ["Dwell", "Motion", "IntermittentLaw", "IncompletePair", "Transition", "is_segmented"]
 
@@ -222,19 +220,11 @@ class IntermittentLaw:
     @classmethod
     def from_csv(cls, data: bytes) -> IntermittentLaw:
         """The law of ratio samples (module docstring): rows ``phi_deg, ratio``, 0 marking dwells."""
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", UserWarning)
-                first = data.split(b"\n", 1)[0]
-                header = not all(x.strip().replace(b".", b"").replace(b"-", b"").isdigit() for x in first.split(b","))
-                table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1 if header else 0, ndmin=2)
-        except ValueError as exc:
-            raise SpecError(f"the ratio CSV cannot be read as numbers (phi_deg, ratio rows): {exc}") from exc
-        if table.shape[1] != 2 or len(table) < 8:
-            raise SpecError(f"the ratio CSV has {table.shape[1]} columns and {len(table)} rows: it needs 2 and >= 8")
-        deg, ratio = table[:, 0], table[:, 1]
-        if not (np.all(np.isfinite(table)) and np.all(np.diff(deg) > 0) and deg[0] >= 0 and deg[-1] < 360):
-            raise SpecError("the ratio CSV's driver angles must be finite and increase within [0, 360) deg")
+        return cls.from_table(*csv_table(data))
+
+    @classmethod
+    def from_table(cls, deg: np.ndarray, ratio: np.ndarray) -> IntermittentLaw:
+        """The law of ratio samples already read (:func:`transmission.csv_table`): 0 marks dwells."""
         if np.any(ratio < 0):
             i = int(np.argmax(ratio < 0))
             raise SpecError.out_of_range(f"ratio at {deg[i]:g} deg", float(ratio[i]), ">= 0 (0 marks a dwell)")

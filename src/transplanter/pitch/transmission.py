@@ -238,11 +238,10 @@ def ratio_from_expression(expr: str) -> Periodic:
 CSV_LARGEST_GAP_DEG = 90.0
 
 
-def ratio_from_csv(data: bytes) -> Periodic:
-    """ω2/ω1 from a CSV of samples over one driver turn: an optional header row, then driver
-    angle (deg, increasing within [0, 360), no stretch of more than ``CSV_LARGEST_GAP_DEG``
-    left out) and ratio per row; a periodic cubic spline through them. At most ``MAX_CSV_ROWS``
-    rows."""
+def csv_table(data: bytes) -> tuple[np.ndarray, np.ndarray]:
+    """(driver angle in deg, ratio) of a ratio CSV: an optional header row, then two numbers per
+    row, at least 8 and at most ``MAX_CSV_ROWS`` rows, the angles finite and increasing within
+    [0, 360). SpecError saying which rule a file breaks; the ratios are the caller's to judge."""
     if isinstance(data, str):
         data = data.encode()
     if not isinstance(data, bytes | bytearray):
@@ -269,6 +268,14 @@ def ratio_from_csv(data: bytes) -> Periodic:
     deg, ratio = table[:, 0], table[:, 1]
     if not (np.all(np.isfinite(table)) and np.all(np.diff(deg) > 0) and deg[0] >= 0 and deg[-1] < 360):
         raise SpecError("the ratio CSV's driver angles must be finite and increase within [0, 360) deg")
+    return deg, ratio
+
+
+def ratio_from_csv(data: bytes) -> Periodic:
+    """ω2/ω1 from a CSV of samples over one driver turn (:func:`csv_table`), no stretch of more
+    than ``CSV_LARGEST_GAP_DEG`` left out, every ratio positive; a periodic cubic spline through
+    them."""
+    deg, ratio = csv_table(data)
     gap = float(max(np.max(np.diff(deg), initial=0.0), 360.0 - deg[-1] + deg[0]))
     if gap > CSV_LARGEST_GAP_DEG:
         radians = (
