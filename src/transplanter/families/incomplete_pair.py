@@ -42,7 +42,7 @@ import numpy as np
 import shapely
 from scipy import optimize
 
-from transplanter import formats, plots, validate
+from transplanter import contact, formats, plots, validate
 from transplanter.backlash import band_of, design_backlash, tolerance_budget
 from transplanter.cutter import Cutter, ShaperCutter
 from transplanter.errors import GeometryError, SpecError, check_int, check_number
@@ -51,10 +51,11 @@ from transplanter.families import pair_assembly
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
 from transplanter.families.study import Built, Checked, StudyDefaults
 from transplanter.incomplete import LOCK_DEPTH, TRANSITION_PITCHES, IncompleteGears, cut_incomplete, sector_pitches
+from transplanter.mesh_engine import MeshSweep
 from transplanter.pair_gate import per_gear
 from transplanter.pitch.intermittent import IncompletePair, IntermittentLaw
 from transplanter.precision import rounded, significant
-from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
+from transplanter.tolerances import CONTACT_TOL_MM, SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
 __all__ = ["IncompletePairStudy", "TIP_BAND", "LOCKING_PLAY_DEG"]
 
@@ -64,6 +65,9 @@ TIP_BAND = 0.1
 #: the locking play a study holds its dwells and transitions to unless told, deg of driven turn (in
 #: all): what the locks and the relieved end teeth of the examples keep (0.5-1.5 deg at modules 2-3)
 LOCKING_PLAY_DEG = 2.0
+#: the grid the phase boundaries are found on (samples per driver turn: 0.01 deg apart), each
+#: boundary then sampled on both sides
+PHASE_GRID = 36_000
 #: meshing steps per driver turn
 STEPS = 720
 
@@ -233,8 +237,26 @@ class IncompletePairStudy(StudyDefaults):
             # the outlines are the design's gate before anything is made: half the steps (refined all the
             # same); the shop files are proved at the full count
             steps = self.steps // 2 if source == "outline" and self.making is not None else self.steps
-            out[source] = validate.mesh_check(self.pair, *polys, self.module, steps=steps, refine=True)
+            report = validate.mesh_check(self.pair, *polys, self.module, steps=steps, refine=True)
+            out[source] = self._with_phase_edges(report, polys)
         return out
+
+    def _with_phase_edges(self, report, polys):
+        """``report`` with samples either side of every phase boundary added to its refined ones: a
+        phase's extreme may sit on its edge (the free play rising into a transition), where neither
+        the uniform steps nor the refinement of the cycle's own extremes put a sample."""
+        grid = 2 * math.pi * np.arange(PHASE_GRID) / PHASE_GRID
+        ph = self.phases(grid)
+        cut = np.flatnonzero(ph != np.roll(ph, -1))
+        phi = np.unique(np.concatenate([grid[cut], grid[(cut + 1) % PHASE_GRID]]))
+        if not len(phi):
+            return report
+        drv, drn = contact.Outline(polys[0]), contact.Outline(polys[1])
+        sweep = MeshSweep(self.pair, drv, drn, self.module, phi, math.inf, CONTACT_TOL_MM)
+        sweep.all()
+        a, b, c = report.refined if report.refined is not None else (np.zeros(0), np.zeros(0), np.zeros(0))
+        refined = (np.concatenate([a, phi]), np.concatenate([b, sweep.bl]), np.concatenate([c, sweep.clear]))
+        return dataclasses.replace(report, refined=refined)
 
     def judge(self, report) -> tuple[dict, list[str]]:
         """One source's figures per phase and the problems (module docstring)."""
