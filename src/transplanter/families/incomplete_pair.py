@@ -50,7 +50,7 @@ from transplanter.export import csv_bytes, json_bytes
 from transplanter.families import pair_assembly
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
 from transplanter.families.study import Built, Checked, StudyDefaults
-from transplanter.incomplete import LOCK_DEPTH, TRANSITION_PITCHES, IncompleteGears, cut_incomplete, sector_pitches
+from transplanter.incomplete import TRANSITION_PITCHES, IncompleteGears, cut_incomplete, sector_pitches
 from transplanter.mesh_engine import MeshSweep
 from transplanter.pair_gate import per_gear
 from transplanter.pitch.intermittent import IncompletePair, IntermittentLaw
@@ -80,8 +80,9 @@ class IncompletePairStudy(StudyDefaults):
     ``"external"`` or ``"internal"`` (the planet drives its ring); cut by ``cutter`` (a shaper,
     ``ShaperCutter(16)`` by default) for ``backlash`` (mm; None: ISO/TR 10064-2); the locks' radial
     clearance ``lock_clearance`` (mm; default 0.4 of the backlash), how deep the driver's locking
-    arc reaches into the driven's tips ``lock_depth`` (modules), and the locking play the proof
-    holds the dwells and transitions to, ``max_play_deg``
+    arc reaches into the driven's tips ``lock_depth`` (modules; None: 0.3 for an external pair, 0.3
+    short of the planet's tips for an internal one: ``incomplete.default_lock_depth``), and the
+    locking play the proof holds the dwells and transitions to, ``max_play_deg``
     (deg, the driven's free play in all)."""
 
     cost = 12  # its sweep and three proofs: start it first
@@ -95,7 +96,7 @@ class IncompletePairStudy(StudyDefaults):
     cutter: Cutter | None = None
     backlash: float | None = None
     lock_clearance: float | None = None
-    lock_depth: float = LOCK_DEPTH
+    lock_depth: float | None = None
     max_play_deg: float = LOCKING_PLAY_DEG
     making: tuple[Making, Making] | None = None
     tolerance: float = WIRE_EDM_TOLERANCE
@@ -117,6 +118,9 @@ class IncompletePairStudy(StudyDefaults):
         if self.centre_distance is not None:
             check_number("centre_distance", self.centre_distance, 0.0, 100_000.0, low_open=True, unit="mm")
         check_number("max_play_deg", self.max_play_deg, 0.0, 45.0, low_open=True, unit="deg")
+        if self.lock_depth is not None:  # into the driven's tips, short of its roots
+            depth = sum(per_gear("addendum", self.addendum))
+            check_number("lock_depth", self.lock_depth, 0.0, depth, low_open=True, high_open=True, unit="modules")
         check_number("tolerance", self.tolerance, 0.0, 1.0, unit="mm")
         check_int("steps", self.steps, 36, 100_000)
         if self.cutter is not None and not isinstance(self.cutter, Cutter):
@@ -378,6 +382,7 @@ class IncompletePairStudy(StudyDefaults):
         out = []
         motions = pair.law.motions
         sectors = self.gears.driver.sectors_deg
+        reach = float(np.linalg.norm(shapely.get_coordinates(driver), axis=1).max())
         segs = pair.law.segments
         for dwell, lock in zip(pair.law.dwells, self.gears.locks, strict=True):
             psi = float(pair.law.psi(np.radians([dwell.start + 1e-9]))[0])
@@ -386,19 +391,25 @@ class IncompletePairStudy(StudyDefaults):
                 shapely.affinity.rotate(driven, turn2, origin=(0, 0), use_radians=True), centre, 0.0
             )
             teeth = driver  # whatever of the driver touches the held driven first (arc, relieved tooth, tooth)
+            # only the driven within the driver's reach can touch it (the same first contact, far fewer vertices)
+            near = shapely.intersection(held, shapely.Point(0.0, 0.0).buffer(reach + 2 * m))
+            held = held if near.is_empty else near
+            shapely.prepare(held)  # touching or not is all the bisection asks: an indexed test
             after = motions.index(segs[(segs.index(dwell) + 1) % len(segs)])
             first_space = math.radians(sectors[after][0])
 
-            def gap(phi: float, held=held, teeth=teeth) -> float:
-                return float(held.distance(shapely.affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True)))
+            def apart(phi: float, held=held, teeth=teeth) -> bool:
+                return not shapely.intersects(
+                    held, shapely.affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True)
+                )
 
             lo, hi = math.radians(dwell.start) + 1e-6, math.radians(dwell.end) + math.radians(30.0)
-            if gap(hi) > 0:
+            if apart(hi):
                 out.append({"dwell_deg": [dwell.start, dwell.end], "entry": "no tooth reaches the held driven gear"})
                 continue
             for _ in range(40):
                 mid = 0.5 * (lo + hi)
-                lo, hi = (mid, hi) if gap(mid) > 0 else (lo, mid)
+                lo, hi = (mid, hi) if apart(mid) else (lo, mid)
             posed = shapely.affinity.rotate(teeth, -hi, origin=(0, 0), use_radians=True)
             p1, p2 = shapely.ops.nearest_points(posed, held)
             r1 = math.hypot(p1.x, p1.y)
