@@ -3,6 +3,7 @@ and the proof of the made parts — the picking arm of ``parts/picking_dwell.py`
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 
@@ -12,6 +13,7 @@ import shapely
 
 from transplanter import cli
 from transplanter.cutter import ShaperCutter
+from transplanter.dxf import DxfPart, dxf_bytes
 from transplanter.errors import GeometryError, SpecError
 from transplanter.families.gear_pair import pair_family
 from transplanter.families.incomplete_pair import IncompletePairStudy
@@ -99,6 +101,8 @@ def test_pair_family_makes_an_incomplete_pair_from_a_law_and_refuses_what_does_n
         pair_family(LAW, module=3.0, teeth=30, shift=0.2)
     with pytest.raises(SpecError, match="module and one of teeth"):
         pair_family(LAW, teeth=30, centre_distance=90.0)
+    with pytest.raises(SpecError, match="lock_depth = 2.5 is out of range"):
+        pair_family(LAW, module=3.0, teeth=30, lock_depth=2.5)  # past the working depth: into the roots
     with pytest.raises(SpecError, match="for incomplete pairs"):
         pair_family("phi - 0.08*sin(2*phi)", teeth=24, module=1.5, lock_clearance=0.05)
 
@@ -108,6 +112,58 @@ def test_pair_cli_refuses_an_option_of_full_pairs_for_a_law_with_dwells(tmp_path
     assert cli.main(argv) == 2
     assert "shift does not apply to an incomplete pair" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
+
+
+#: a planet driving its ring: standing 60 deg of the planet, then half a ring turn at a ratio of 0.54-0.66
+RING_LAW = "0..60: dwell; 60..360: pi*(phi - pi/3)/(5*pi/3) - 0.05*sin(2*pi*(phi - pi/3)/(5*pi/3))"
+
+
+@pytest.fixture(scope="module")
+def ring_pair():
+    fam = pair_family(RING_LAW, internal=True, module=3.0, centre_distance=40.0)
+    (study,) = fam.parts
+    return dataclasses.replace(study, steps=90)
+
+
+def test_an_internal_incomplete_pair_meshes_on_its_reread_dxf_and_its_locks_hold_the_ring(ring_pair):
+    study = ring_pair
+    g = study.gears
+    assert g.driven.internal and study.lock_depth is None
+    # the planet's arc stops 0.3 m short of its tips (1.5 m into the ring's with the ring's 0.8 m addendum)
+    motion = study.pair.law.motions[0]
+    r1 = float(study.pair.r1(np.radians([motion.start]), motion=motion)[0])
+    assert g.locks[0].radius == pytest.approx(r1 + 0.7 * 3.0, abs=1e-6)
+    files = {
+        f"{study.name}.{role}.dxf": dxf_bytes(DxfPart(f"{study.name}.{role}", gear.polygon))
+        for role, gear in zip(("driver", "driven"), g.gears, strict=True)
+    }
+    (report,) = study.meshed(files, sources=("dxf",)).values()
+    res, problems = study.judge(report)
+    assert problems == [] and res["max_penetration_mm2"] == 0.0
+    # the ring stands within its locking play through the dwell, and through the transitions
+    assert res["dwell"]["largest_play_deg"] < 1.0 and res["transition"]["largest_play_deg"] < 1.0
+    assert res["dwell"]["free_play_mm"][0] >= study.band[0]
+    (entry,) = study.entry_contacts(g.driver.polygon, g.driven.polygon)
+    assert entry["touching"] == "a tooth of the sector" and not entry["tip_on_tip"]
+    assert 0.0 <= entry["after_dwell_end_deg"] < 1.5
+
+
+def test_a_planets_end_teeth_are_shortened_to_its_locking_arc(ring_pair):
+    g, m = ring_pair.gears, ring_pair.module
+    lock = g.locks[0]
+    (start, end) = g.driver.sectors_deg[0]  # the sector's edge lines, through its outermost spaces
+    pitch = math.degrees(math.pi * m / lock.radius)
+    pts = np.asarray(g.driver.polygon.exterior.coords)
+    r = np.linalg.norm(pts, axis=1)
+    body = np.degrees(np.arctan2(pts[:, 1], pts[:, 0]))
+
+    def tip(lo, hi):
+        return float(r[np.mod(body - lo, 360.0) < np.mod(hi - lo, 360.0)].max())
+
+    # the tooth either side of the dwell reaches no further than the arc; its neighbours keep their tips
+    assert tip(end - pitch, end) <= lock.radius + 1e-6 and tip(start, start + pitch) <= lock.radius + 1e-6
+    assert tip(end - 2 * pitch, end - pitch) > lock.radius + 0.25 * m
+    assert tip(start + pitch, start + 2 * pitch) > lock.radius + 0.25 * m
 
 
 @pytest.fixture(scope="module")

@@ -302,7 +302,7 @@ def _cmd_pair(args: argparse.Namespace) -> int:
     names += ("scale_to_close", "addendum", "shift", "trim_ring_tips", "allow_undercut")
     names += ("lock_clearance", "lock_depth", "locking_play")
     options = {k: getattr(args, k) for k in (*names, "rack", "width", "name")}
-    options = {k: v for k, v in options.items() if v is not None or k not in ("lock_depth", "locking_play")}
+    options = {k: v for k, v in options.items() if v is not None or k != "locking_play"}
     manifest = gear_pair(args.transmission, args.output, **options)
     folder = Path(args.output) / manifest["family"]
     print(manifest["description"])
@@ -550,7 +550,7 @@ def _main(argv: list[str] | None = None) -> int:
         "--lock-depth",
         type=float,
         help="incomplete pairs: how deep the driver's locking arc reaches into the driven's tips, modules "
-        "(default 0.3)",
+        "(default 0.3 external; internal: 0.3 short of the planet's tips)",
     )
     p.add_argument(
         "--locking-play",

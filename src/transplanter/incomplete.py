@@ -18,7 +18,11 @@ centre distance) and a cutter, :func:`cut_incomplete` makes both gears:
   closes that gap by ``a ε sin γ`` at an angle γ from the line of centres (seen from the driver's
   axis), so the pocket spanning ±β between its horns (where it meets the driven's tips) holds it
   to ``c / (a sin β)`` either way (:class:`Lock`: the nominal locking play); a shallow arc keeps
-  the entry and exit teeth out of the pocket;
+  the entry and exit teeth out of the pocket. Inside a ring the tip circles are nearly conformal
+  and the planet's end teeth would sweep a long lens of the standing ring beyond the arc: there
+  the arc reaches to ``INTERNAL_LOCK_SHORT_OF_TIPS`` below the planet's tips and the planet's
+  end teeth (the last before each dwell, the first after it) are **shortened to the arc**, so
+  the pocket stays conforming to both horns;
 * **the transitions.** The driven gear is the blank with the sector spaces, minus the region the
   driver's body (grown by ``c``) sweeps through it over each dwell and ``TRANSITION_PITCHES``
   pitches of roll beyond its lock either side (:func:`transplanter.sweep.swept`): where the
@@ -48,16 +52,34 @@ from transplanter.pitch.periodic import PeriodicSpline
 from transplanter.sweep import swept, turned
 from transplanter.teeth import generate, require_cutter
 
-__all__ = ["SectorGear", "Lock", "IncompleteGears", "cut_incomplete", "virtual_curve", "sector_pitches", "LOCK_DEPTH"]
+__all__ = [
+    "SectorGear",
+    "Lock",
+    "IncompleteGears",
+    "cut_incomplete",
+    "virtual_curve",
+    "sector_pitches",
+    "LOCK_DEPTH",
+    "INTERNAL_LOCK_SHORT_OF_TIPS",
+    "default_lock_depth",
+]
 
 #: samples per degree of a sector's true pitch curve in its virtual closed curve
 CURVE_SAMPLES_PER_DEG = 8
 #: the transition window either side of a dwell, in circular pitches of roll
 TRANSITION_PITCHES = 1.5
-#: how far the driver's locking arc reaches into the driven's tips on the line of centres, modules:
-#: a shallow arc keeps the driven's entry and exit teeth out of the pocket it sweeps (the lock's
-#: lever, the horns' half-angle, grows as its square root)
+#: how far an external driver's locking arc reaches into the driven's tips on the line of centres,
+#: modules: a shallow arc keeps the driven's entry and exit teeth out of the pocket it sweeps (the
+#: lock's lever, the horns' half-angle, grows as its square root)
 LOCK_DEPTH = 0.3
+#: how far short of its own tips a planet's locking arc stops, modules (its depth into the ring's
+#: tips is then the working depth less this). Inside a ring the two tip circles are nearly
+#: conformal: while the ring stands, the planet's end teeth sweep the long lens between them
+#: (±15-40 deg of ring), so a shallow arc leaves the ring's pocket as wide and deep as that lens
+#: and the horns hold nothing (a ring of ratio 0.54, m 2, a 40 mm: free play 3.3 deg with the arc
+#: 0.3 m into the ring's tips, 3.2 at 1.0 m; 1.24 at 1.3 m, 1.19 at 1.6 m; at 1.8 m, the tips' own
+#: radius, the first tooth meets the ring tip on tip)
+INTERNAL_LOCK_SHORT_OF_TIPS = 0.3
 #: the inside-corner radius the gears are given where sectors meet locking arcs and where the
 #: sweep leaves corners: a 0.25 mm wire with its 0.02 mm spark gap, and a margin (mm)
 CORNER_RADIUS_MM = 0.16
@@ -333,7 +355,7 @@ def cut_incomplete(
     *,
     addendum: float | tuple[float, float] = 1.0,
     lock_clearance: float | None = None,
-    lock_depth: float = LOCK_DEPTH,
+    lock_depth: float | None = None,
     corner_radius: float = CORNER_RADIUS_MM,
 ) -> IncompleteGears:
     """Both gears of the incomplete ``pair`` cut by ``cutter`` (module docstring).
@@ -342,7 +364,8 @@ def cut_incomplete(
     half of it, ``cutter.thickening``); ``lock_clearance`` (mm, default 0.4 of the backlash: the
     sweep then stays off the flanks of teeth in mesh) is the radial clearance of the locking
     arcs and the growth of the relief sweep. The driver's locking arc's
-    radius reaches ``lock_depth`` (modules) into the driven's tips on the line of centres;
+    radius reaches ``lock_depth`` (modules) into the driven's tips on the line of centres (None:
+    :func:`default_lock_depth`);
     ``corner_radius`` (mm) the wire's reach: the inside corners where a sector meets its locking
     arc, and those the sweep leaves in the driven, are given it as the wire leaves them (the
     proof then judges the gears as cut).
@@ -355,6 +378,8 @@ def cut_incomplete(
     add1, add2 = per_gear("addendum", addendum)
     c = 0.4 * backlash if lock_clearance is None else lock_clearance
     c = check_number("lock_clearance", c, 0.0, m, low_open=True, high_open=True, unit="mm")
+    depth = default_lock_depth(pair.mesh, (add1, add2)) if lock_depth is None else lock_depth
+    depth = check_number("lock_depth", depth, 0.0, add1 + add2, low_open=True, high_open=True, unit="modules")
     a = pair.centre_distance
     ext = pair.mesh == "external"
     tool = replace(cutter, thickening=backlash / 4) if backlash else cutter
@@ -370,7 +395,7 @@ def cut_incomplete(
             + pair.r2(np.radians([motions[after].start]), motion=motions[after])[0]
         )
         tip2 = r2b + add2 * m if ext else r2b - add2 * m
-        r_lock = (a - tip2 if ext else tip2 - a) + lock_depth * m
+        r_lock = (a - tip2 if ext else tip2 - a) + depth * m
         check_number("lock radius", r_lock, 0.0, low_open=True, unit="mm")
         beta, alpha = _horns(a, r_lock + c, tip2)
         lever = beta if ext else math.pi - beta
@@ -394,6 +419,13 @@ def cut_incomplete(
     for (_dwell, before, after), r_lock in zip(dwells, radii, strict=True):
         disc = shapely.Point(0.0, 0.0).buffer(r_lock, quad_segs=max(64, int(math.pi * r_lock / 0.05)))
         blank.append(shapely.intersection(disc, _between(edges[before][1], edges[after][0], far)))
+        if not ext:  # a planet's end teeth shortened to its locking arc (module docstring)
+            for p, q in (
+                (drv[before].points[-2], drv[before].points[-1]),
+                (drv[after].points[0], drv[after].points[1]),
+            ):
+                a0, a1 = math.atan2(p[1], p[0]), math.atan2(q[1], q[0])
+                removed.append(shapely.difference(_radial(a0, a1 if a1 > a0 else a1 + 2 * math.pi, far), disc))
     d_body = _wire_cut(
         _largest(shapely.difference(shapely.union_all(blank), shapely.union_all(removed)), m), corner_radius
     )
@@ -485,6 +517,13 @@ def cut_incomplete(
         (),
     )
     return IncompleteGears(pair, driver, driven, tuple(locks), tuple(relief), backlash, tuple(map(tuple, zones)))
+
+
+def default_lock_depth(mesh: str, addendum: tuple[float, float]) -> float:
+    """How deep (modules) the driver's locking arc reaches into the driven's tips unless told:
+    ``LOCK_DEPTH`` for an external pair, the working depth less ``INTERNAL_LOCK_SHORT_OF_TIPS``
+    for a planet in its ring."""
+    return LOCK_DEPTH if mesh == "external" else addendum[0] + addendum[1] - INTERNAL_LOCK_SHORT_OF_TIPS
 
 
 def _made_of(body: shapely.Polygon) -> tuple[shapely.Polygon, shapely.Geometry]:

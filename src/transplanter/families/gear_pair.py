@@ -41,7 +41,6 @@ from transplanter.families.incomplete_pair import LOCKING_PLAY_DEG, IncompletePa
 from transplanter.families.making import Making
 from transplanter.families.manifest import previous_manifest
 from transplanter.families.scripts import Family
-from transplanter.incomplete import LOCK_DEPTH
 from transplanter.pair_gate import per_gear
 from transplanter.pitch import GearPair
 from transplanter.pitch.intermittent import IntermittentLaw, is_segmented
@@ -83,7 +82,7 @@ def pair_family(
     trim_ring_tips: bool = True,
     allow_undercut: bool = False,
     lock_clearance: float | None = None,
-    lock_depth: float = LOCK_DEPTH,
+    lock_depth: float | None = None,
     locking_play: float = LOCKING_PLAY_DEG,
 ) -> Family:
     """The family of one toothed pair of ``spec`` (the design; :func:`gear_pair` builds it).
@@ -128,7 +127,8 @@ def pair_family(
     lock_clearance, lock_depth, locking_play
         Incomplete pairs (a law with dwells, :mod:`transplanter.pitch.intermittent`): the locks'
         radial clearance (mm; default 0.4 of the backlash), how deep the driver's locking arc reaches
-        into the driven's tips (modules, default 0.3) and the locking play the proof holds the
+        into the driven's tips (modules; default 0.3 for an external pair, 0.3 short of the planet's
+        tips for an internal one) and the locking play the proof holds the
         dwells and transitions to (deg, default 2).
 
     **Incomplete pairs.** A ``spec`` of segments (``"0..60: dwell; 60..360: EXPR"``) or a ratio
@@ -157,7 +157,7 @@ def pair_family(
                 raise SpecError(f"{key} does not apply to an incomplete pair (a law with dwells): leave it out")
         stated = locals()
         return _incomplete_family(spec, law, **{k: stated[k] for k in _INCOMPLETE_OPTIONS})
-    if lock_clearance is not None or lock_depth != LOCK_DEPTH or locking_play != LOCKING_PLAY_DEG:
+    if lock_clearance is not None or lock_depth is not None or locking_play != LOCKING_PLAY_DEG:
         raise SpecError("lock_clearance, lock_depth and locking_play are for incomplete pairs (a law with dwells)")
     inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
     inputs.boolean("scale_to_close", scale_to_close)
