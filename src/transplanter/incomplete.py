@@ -30,6 +30,10 @@ centre distance) and a cutter, :func:`cut_incomplete` makes both gears:
   material is taken from the driven — the relief of its end teeth (``relief`` states per dwell
   the area and depth taken from cutter-made teeth) and the pocket itself.
 
+Where the first tooth meets the driven held at its dwell angle (:func:`entry_contacts`, on the
+outlines or on the sections re-read) is what the proof reports as the entry: tip on tip within
+``TIP_BAND`` modules of both tips is refused.
+
 The gears are plain data (:class:`SectorGear`: outline, blank and what is cut from it for the
 3D Boolean subtraction); :mod:`transplanter.families.incomplete_pair` proves and makes them.
 """
@@ -41,7 +45,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import shapely
-from shapely import affinity
+from shapely import affinity, ops
 
 from transplanter.cutter import Cutter
 from transplanter.errors import GeometryError, SpecError, check_number
@@ -62,6 +66,8 @@ __all__ = [
     "LOCK_DEPTH",
     "INTERNAL_LOCK_SHORT_OF_TIPS",
     "default_lock_depth",
+    "entry_contacts",
+    "TIP_BAND",
 ]
 
 #: samples per degree of a sector's true pitch curve in its virtual closed curve
@@ -80,6 +86,8 @@ LOCK_DEPTH = 0.3
 #: 0.3 m into the ring's tips, 3.2 at 1.0 m; 1.24 at 1.3 m, 1.19 at 1.6 m; at 1.8 m, the tips' own
 #: radius, the first tooth meets the ring tip on tip)
 INTERNAL_LOCK_SHORT_OF_TIPS = 0.3
+#: an entry contact within this many modules of both gears' tips is tip-on-tip
+TIP_BAND = 0.1
 #: the inside-corner radius the gears are given where sectors meet locking arcs and where the
 #: sweep leaves corners: a 0.25 mm wire with its 0.02 mm spark gap, and a margin (mm)
 CORNER_RADIUS_MM = 0.16
@@ -497,8 +505,9 @@ def cut_incomplete(
         r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
         half = (zones[before][1] + TRANSITION_PITCHES * math.pi * m) / r2b
         reach = reacher(chi, half)
-        turns = [2 * math.pi * k for k in range(lobes)]  # the driven's lobes meet the dwell turn by turn
-        sw = shapely.union_all([swept(d_body, pair, (d0 - w0 + t, d1 + w1 + t), c, reach) for t in turns])
+        # the driven's lobes meet the dwell turn by turn: the same sweep, the driven turned on by a lobe
+        once = swept(d_body, pair, (d0 - w0, d1 + w1), c, reach)
+        sw = shapely.union_all([_turn(once, (1 if not ext else -1) * k * turn) for k in range(lobes)])
         sweeps.append((sw, chi, zones[before][1] / r2b))
     sweep = shapely.union_all([sw for sw, _, _ in sweeps])
     n_body = _wire_cut(_largest(shapely.difference(pre, sweep), m), corner_radius)
@@ -517,6 +526,65 @@ def cut_incomplete(
         (),
     )
     return IncompleteGears(pair, driver, driven, tuple(locks), tuple(relief), backlash, tuple(map(tuple, zones)))
+
+
+def entry_contacts(gears: IncompleteGears, driver: shapely.Polygon, driven: shapely.Polygon) -> list[dict]:
+    """Where each motion's first tooth contact is: the driven held at its dwell angle while the
+    driver turns on, the first driver angle (bisection to 1e-6 deg) at which the driver's teeth
+    (not its locking arc) touch it, and the contact's radius on each gear below its tip."""
+    pair, m = gears.pair, gears.driver.module
+    a = pair.centre_distance
+    centre = a if pair.mesh == "external" else -a
+    out = []
+    motions = pair.law.motions
+    sectors = gears.driver.sectors_deg
+    reach = float(np.linalg.norm(shapely.get_coordinates(driver), axis=1).max())
+    segs = pair.law.segments
+    for dwell, lock in zip(pair.law.dwells, gears.locks, strict=True):
+        psi = float(pair.law.psi(np.radians([dwell.start + 1e-9]))[0])
+        turn2 = math.pi + psi if pair.mesh == "external" else -psi
+        held = affinity.translate(affinity.rotate(driven, turn2, origin=(0, 0), use_radians=True), centre, 0.0)
+        teeth = driver  # whatever of the driver touches the held driven first (arc, relieved tooth, tooth)
+        # only the driven within the driver's reach can touch it (the same first contact, far fewer vertices)
+        near = shapely.intersection(held, shapely.Point(0.0, 0.0).buffer(reach + 2 * m))
+        held = held if near.is_empty else near
+        shapely.prepare(held)  # touching or not is all the bisection asks: an indexed test
+        after = motions.index(segs[(segs.index(dwell) + 1) % len(segs)])
+        first_space = math.radians(sectors[after][0])
+
+        def apart(phi: float, held=held, teeth=teeth) -> bool:
+            return not shapely.intersects(held, affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True))
+
+        lo, hi = math.radians(dwell.start) + 1e-6, math.radians(dwell.end) + math.radians(30.0)
+        if apart(hi):
+            out.append({"dwell_deg": [dwell.start, dwell.end], "entry": "no tooth reaches the held driven gear"})
+            continue
+        for _ in range(40):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if apart(mid) else (lo, mid)
+        posed = affinity.rotate(teeth, -hi, origin=(0, 0), use_radians=True)
+        p1, p2 = ops.nearest_points(posed, held)
+        r1 = math.hypot(p1.x, p1.y)
+        r2 = math.hypot(p2.x - centre, p2.y)
+        near = shapely.Point(p1.x, p1.y).buffer(2.5 * m)  # the teeth around the contact
+        tip1 = float(np.linalg.norm(shapely.get_coordinates(shapely.intersection(posed, near)), axis=1).max())
+        local = shapely.get_coordinates(shapely.intersection(held, near)) - (centre, 0.0)
+        d2 = np.linalg.norm(local, axis=1)
+        tip2 = float(d2.max()) if pair.mesh == "external" else float(d2.min())
+        below1, below2 = (tip1 - r1) / m, abs(tip2 - r2) / m
+        body = (math.atan2(p1.y, p1.x) + hi - first_space + math.pi) % (2 * math.pi) - math.pi
+        out.append(
+            {
+                "dwell_deg": [dwell.start, dwell.end],
+                "touching": "the locking arc" if body < 0 and abs(r1 - lock.radius) < 1e-3 else "a tooth of the sector",
+                "first_contact_driver_deg": round(math.degrees(hi) % 360, 4),
+                "after_dwell_end_deg": round(math.degrees(hi) - dwell.end, 4),
+                "driver_radius_below_tip_m": round(below1, 4),
+                "driven_radius_from_tip_m": round(below2, 4),
+                "tip_on_tip": bool(below1 < TIP_BAND and below2 < TIP_BAND),
+            }
+        )
+    return out
 
 
 def default_lock_depth(mesh: str, addendum: tuple[float, float]) -> float:

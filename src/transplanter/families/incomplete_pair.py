@@ -21,7 +21,7 @@ position judged by its phase:
 Each dwell/motion boundary is reported with the jump of the driven's speed and acceleration the
 law asks for (per unit driver speed: the entry shock), and where the entry contact is: the
 driver angle from which the driving flanks stay closed within the band, and the radii of that
-first contact on both gears against their tips (a contact within ``TIP_BAND`` modules of both
+first contact on both gears against their tips (a contact within ``incomplete.TIP_BAND`` modules of both
 tips is tip-on-tip and refused).
 
 Files: ``<name>.driver|driven.dxf/.stl/.step`` with timing marks, ``<name>.assembly.3mf`` and
@@ -50,18 +50,22 @@ from transplanter.export import csv_bytes, json_bytes
 from transplanter.families import pair_assembly
 from transplanter.families.making import Making, assembly_file, check_shop_files, manufacture, step_file
 from transplanter.families.study import Built, Checked, StudyDefaults
-from transplanter.incomplete import TRANSITION_PITCHES, IncompleteGears, cut_incomplete, sector_pitches
+from transplanter.incomplete import (
+    TRANSITION_PITCHES,
+    IncompleteGears,
+    cut_incomplete,
+    entry_contacts,
+    sector_pitches,
+)
 from transplanter.mesh_engine import MeshSweep
 from transplanter.pair_gate import per_gear
 from transplanter.pitch.intermittent import IncompletePair, IntermittentLaw
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import CONTACT_TOL_MM, SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 
-__all__ = ["IncompletePairStudy", "TIP_BAND", "LOCKING_PLAY_DEG"]
+__all__ = ["IncompletePairStudy", "LOCKING_PLAY_DEG"]
 
 ROLES = ("driver", "driven")
-#: an entry contact within this many modules of both gears' tips is tip-on-tip
-TIP_BAND = 0.1
 #: the locking play a study holds its dwells and transitions to unless told, deg of driven turn (in
 #: all): what the locks and the relieved end teeth of the examples keep (0.5-1.5 deg at modules 2-3)
 LOCKING_PLAY_DEG = 2.0
@@ -373,68 +377,9 @@ class IncompletePairStudy(StudyDefaults):
         return out
 
     def entry_contacts(self, driver: shapely.Polygon, driven: shapely.Polygon) -> list[dict]:
-        """Where each motion's first tooth contact is: the driven held at its dwell angle while the
-        driver turns on, the first driver angle (bisection to 1e-6 deg) at which the driver's teeth
-        (not its locking arc) touch it, and the contact's radius on each gear below its tip."""
-        pair, m = self.pair, self.module
-        a = pair.centre_distance
-        centre = a if pair.mesh == "external" else -a
-        out = []
-        motions = pair.law.motions
-        sectors = self.gears.driver.sectors_deg
-        reach = float(np.linalg.norm(shapely.get_coordinates(driver), axis=1).max())
-        segs = pair.law.segments
-        for dwell, lock in zip(pair.law.dwells, self.gears.locks, strict=True):
-            psi = float(pair.law.psi(np.radians([dwell.start + 1e-9]))[0])
-            turn2 = math.pi + psi if pair.mesh == "external" else -psi
-            held = shapely.affinity.translate(
-                shapely.affinity.rotate(driven, turn2, origin=(0, 0), use_radians=True), centre, 0.0
-            )
-            teeth = driver  # whatever of the driver touches the held driven first (arc, relieved tooth, tooth)
-            # only the driven within the driver's reach can touch it (the same first contact, far fewer vertices)
-            near = shapely.intersection(held, shapely.Point(0.0, 0.0).buffer(reach + 2 * m))
-            held = held if near.is_empty else near
-            shapely.prepare(held)  # touching or not is all the bisection asks: an indexed test
-            after = motions.index(segs[(segs.index(dwell) + 1) % len(segs)])
-            first_space = math.radians(sectors[after][0])
-
-            def apart(phi: float, held=held, teeth=teeth) -> bool:
-                return not shapely.intersects(
-                    held, shapely.affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True)
-                )
-
-            lo, hi = math.radians(dwell.start) + 1e-6, math.radians(dwell.end) + math.radians(30.0)
-            if apart(hi):
-                out.append({"dwell_deg": [dwell.start, dwell.end], "entry": "no tooth reaches the held driven gear"})
-                continue
-            for _ in range(40):
-                mid = 0.5 * (lo + hi)
-                lo, hi = (mid, hi) if apart(mid) else (lo, mid)
-            posed = shapely.affinity.rotate(teeth, -hi, origin=(0, 0), use_radians=True)
-            p1, p2 = shapely.ops.nearest_points(posed, held)
-            r1 = math.hypot(p1.x, p1.y)
-            r2 = math.hypot(p2.x - centre, p2.y)
-            near = shapely.Point(p1.x, p1.y).buffer(2.5 * m)  # the teeth around the contact
-            tip1 = float(np.linalg.norm(shapely.get_coordinates(shapely.intersection(posed, near)), axis=1).max())
-            local = shapely.get_coordinates(shapely.intersection(held, near)) - (centre, 0.0)
-            d2 = np.linalg.norm(local, axis=1)
-            tip2 = float(d2.max()) if pair.mesh == "external" else float(d2.min())
-            below1, below2 = (tip1 - r1) / m, abs(tip2 - r2) / m
-            body = (math.atan2(p1.y, p1.x) + hi - first_space + math.pi) % (2 * math.pi) - math.pi
-            out.append(
-                {
-                    "dwell_deg": [dwell.start, dwell.end],
-                    "touching": "the locking arc"
-                    if body < 0 and abs(r1 - lock.radius) < 1e-3
-                    else "a tooth of the sector",
-                    "first_contact_driver_deg": round(math.degrees(hi) % 360, 4),
-                    "after_dwell_end_deg": round(math.degrees(hi) - dwell.end, 4),
-                    "driver_radius_below_tip_m": round(below1, 4),
-                    "driven_radius_from_tip_m": round(below2, 4),
-                    "tip_on_tip": bool(below1 < TIP_BAND and below2 < TIP_BAND),
-                }
-            )
-        return out
+        """Where each motion's first tooth contact is on ``driver`` and ``driven`` (outlines or
+        sections re-read), the driven held at its dwell angle (:func:`incomplete.entry_contacts`)."""
+        return entry_contacts(self.gears, driver, driven)
 
     # -- build and check -------------------------------------------------------------------------
 
