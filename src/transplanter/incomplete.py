@@ -50,6 +50,7 @@ from shapely import affinity, ops
 from transplanter.cutter import Cutter
 from transplanter.errors import GeometryError, SpecError, check_number
 from transplanter.pair_gate import per_gear
+from transplanter.pitch import driven_axis, driven_turn
 from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.intermittent import Dwell, IncompletePair, Motion
 from transplanter.pitch.periodic import PeriodicSpline
@@ -390,6 +391,7 @@ def cut_incomplete(
     depth = check_number("lock_depth", depth, 0.0, add1 + add2, low_open=True, high_open=True, unit="modules")
     a = pair.centre_distance
     ext = pair.mesh == "external"
+    sense = -1.0 if ext else 1.0  # the driven's body turns against ψ (external) or with it (a ring)
     tool = replace(cutter, thickening=backlash / 4) if backlash else cutter
     motions = pair.law.motions
     dwells = _dwells(pair)
@@ -459,17 +461,16 @@ def cut_incomplete(
     bridge = (0.25 * math.pi * m, 0.25 * math.pi * m)
     drn = [_sector(pair, tool, mo, "driven", (add1, add2), bridge) for mo in motions]
     lobes = pair.law.turn_fraction
+    turn = 2 * math.pi / lobes
     if len(motions) == 1:
         pieces = [(drn[0], None)]
     else:
         pieces = []
         for k, mo in enumerate(motions):
-            lo = (1 if not ext else -1) * float(pair.psi_in(mo, np.radians([mo.start]))[0])
-            hi = (1 if not ext else -1) * float(pair.psi_in(mo, np.radians([mo.end]))[0])
+            lo = sense * float(pair.psi_in(mo, np.radians([mo.start]))[0])
+            hi = sense * float(pair.psi_in(mo, np.radians([mo.end]))[0])
             lo, hi = min(lo, hi), max(lo, hi)
-            wedges = [
-                _radial(lo + i * 2 * math.pi / lobes, hi + i * 2 * math.pi / lobes, far * 4) for i in range(lobes)
-            ]
+            wedges = [_radial(lo + i * turn, hi + i * turn, far * 4) for i in range(lobes)]
             pieces.append((drn[k], shapely.union_all(wedges)))
     r_out = max(float(np.linalg.norm(np.asarray(s.polygon.exterior.coords), axis=1).max()) for s in drn)
     if ext:
@@ -482,7 +483,6 @@ def cut_incomplete(
         )
     n_cut = [s.removed if w is None else shapely.intersection(s.removed, w) for s, w in pieces]
     pre = shapely.difference(n_blank, shapely.union_all(n_cut))
-    turn = 2 * math.pi / lobes
 
     def reacher(chi: float, half: float):
         """Driven-frame points that can meet driven material near the lock zone at ``chi``."""
@@ -501,13 +501,13 @@ def cut_incomplete(
         w1 = _roll_angle(pair, motions[after], zones[after][0] + TRANSITION_PITCHES * math.pi * m, False)
         d0, d1 = math.radians(dwell.start), math.radians(dwell.end)
         psi_b = float(pair.psi_in(motions[before], np.radians([motions[before].end]))[0])
-        chi = (1 if not ext else -1) * psi_b  # the line of centres in the driven's frame at the dwell
+        chi = sense * psi_b  # the line of centres in the driven's frame at the dwell
         r2b = float(pair.r2(np.radians([motions[before].end]), motion=motions[before])[0])
         half = (zones[before][1] + TRANSITION_PITCHES * math.pi * m) / r2b
         reach = reacher(chi, half)
         # the driven's lobes meet the dwell turn by turn: the same sweep, the driven turned on by a lobe
         once = swept(d_body, pair, (d0 - w0, d1 + w1), c, reach)
-        sw = shapely.union_all([_turn(once, (1 if not ext else -1) * k * turn) for k in range(lobes)])
+        sw = shapely.union_all([_turn(once, sense * k * turn) for k in range(lobes)])
         sweeps.append((sw, chi, zones[before][1] / r2b))
     sweep = shapely.union_all([sw for sw, _, _ in sweeps])
     n_body = _wire_cut(_largest(shapely.difference(pre, sweep), m), corner_radius)
@@ -533,27 +533,24 @@ def entry_contacts(gears: IncompleteGears, driver: shapely.Polygon, driven: shap
     driver turns on, the first driver angle (bisection to 1e-6 deg) at which the driver's teeth
     (not its locking arc) touch it, and the contact's radius on each gear below its tip."""
     pair, m = gears.pair, gears.driver.module
-    a = pair.centre_distance
-    centre = a if pair.mesh == "external" else -a
+    centre = driven_axis(pair)
     out = []
     motions = pair.law.motions
     sectors = gears.driver.sectors_deg
     reach = float(np.linalg.norm(shapely.get_coordinates(driver), axis=1).max())
     segs = pair.law.segments
     for dwell, lock in zip(pair.law.dwells, gears.locks, strict=True):
-        psi = float(pair.law.psi(np.radians([dwell.start + 1e-9]))[0])
-        turn2 = math.pi + psi if pair.mesh == "external" else -psi
+        turn2 = float(driven_turn(pair, np.radians([dwell.start + 1e-9]))[0])
         held = affinity.translate(affinity.rotate(driven, turn2, origin=(0, 0), use_radians=True), centre, 0.0)
-        teeth = driver  # whatever of the driver touches the held driven first (arc, relieved tooth, tooth)
         # only the driven within the driver's reach can touch it (the same first contact, far fewer vertices)
-        near = shapely.intersection(held, shapely.Point(0.0, 0.0).buffer(reach + 2 * m))
-        held = held if near.is_empty else near
+        within = shapely.intersection(held, shapely.Point(0.0, 0.0).buffer(reach + 2 * m))
+        held = held if within.is_empty else within
         shapely.prepare(held)  # touching or not is all the bisection asks: an indexed test
         after = motions.index(segs[(segs.index(dwell) + 1) % len(segs)])
         first_space = math.radians(sectors[after][0])
 
-        def apart(phi: float, held=held, teeth=teeth) -> bool:
-            return not shapely.intersects(held, affinity.rotate(teeth, -phi, origin=(0, 0), use_radians=True))
+        def apart(phi: float, held=held) -> bool:  # whatever of the driver touches it: arc, relieved tooth, tooth
+            return not shapely.intersects(held, affinity.rotate(driver, -phi, origin=(0, 0), use_radians=True))
 
         lo, hi = math.radians(dwell.start) + 1e-6, math.radians(dwell.end) + math.radians(30.0)
         if apart(hi):
@@ -562,7 +559,7 @@ def entry_contacts(gears: IncompleteGears, driver: shapely.Polygon, driven: shap
         for _ in range(40):
             mid = 0.5 * (lo + hi)
             lo, hi = (mid, hi) if apart(mid) else (lo, mid)
-        posed = affinity.rotate(teeth, -hi, origin=(0, 0), use_radians=True)
+        posed = affinity.rotate(driver, -hi, origin=(0, 0), use_radians=True)
         p1, p2 = ops.nearest_points(posed, held)
         r1 = math.hypot(p1.x, p1.y)
         r2 = math.hypot(p2.x - centre, p2.y)

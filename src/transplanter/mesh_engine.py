@@ -15,6 +15,7 @@ import numpy as np
 import shapely
 
 from transplanter import contact
+from transplanter.pitch import driven_axis, driven_turn
 
 __all__ = ["CLEARANCE_CAP_MM", "FOULING_PITCHES", "MESH_CHUNK", "MeshSweep", "MeshingPair"]
 
@@ -68,15 +69,14 @@ class MeshSweep:
     def __init__(self, pair: MeshingPair, drv, drn, module, phi1, half, tol, sectors=None):
         self.pair, self.drv, self.drn, self.module, self.half, self.tol = pair, drv, drn, module, half, tol
         self.external = pair.ring is None
-        self.centre = -pair.centre_distance if pair.ring == "driven" else pair.centre_distance
+        self.centre = driven_axis(pair)
         self.turn = 1.0 if self.external else -1.0  # the driven gear's sense for a positive δ
         self.phi1 = np.asarray(phi1, dtype=float)
         steps = len(self.phi1)
         self.r1 = pair.driver.r(self.phi1)
-        theta2 = pair.driven_rotation(self.phi1)
         self.r2 = np.abs(self.r1 - self.centre)
         self.psi1 = -self.phi1
-        self.psi2 = (math.pi + theta2) if self.external else -theta2
+        self.psi2 = driven_turn(pair, self.phi1)
         self.span = 2 * module / np.maximum(self.r2, module)  # about a tooth of free play
         self.sectors = sectors or (
             contact.reach_sector(drv, 0.0, drn, self.centre, pair.ring == "driven"),

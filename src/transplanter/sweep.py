@@ -20,6 +20,7 @@ import manifold3d
 import numpy as np
 import shapely
 
+from transplanter.pitch import driven_axis, driven_turn
 from transplanter.pitch.intermittent import IncompletePair
 
 __all__ = ["swept", "edge_hulls", "posed_in", "turned", "SWEEP_STEP_DEG", "SWEEP_SIMPLIFY_MM", "SWEEP_CHUNK"]
@@ -44,10 +45,7 @@ def posed_in(points: np.ndarray, pair: IncompletePair, phi: np.ndarray, each: bo
     """Driver body points (n, 2) in the driven's body frame at driver angles ``phi`` (rad):
     (poses, n, 2); with ``each``, one point per angle: (n, 2). The meshing conventions: driver
     clockwise about the origin, the driven's axis at (a, 0) (a ring's at (-a, 0))."""
-    a = pair.centre_distance
-    centre = a if pair.mesh == "external" else -a
-    psi = pair.law.psi(phi)
-    psi2 = np.pi + psi if pair.mesh == "external" else -psi
+    centre, psi2 = driven_axis(pair), driven_turn(pair, phi)
     if each:
         return turned(turned(points, -phi) - (centre, 0.0), -psi2)
     return turned(turned(points[None], -phi[:, None]) - (centre, 0.0), -psi2[:, None])

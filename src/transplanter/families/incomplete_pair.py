@@ -59,6 +59,7 @@ from transplanter.incomplete import (
 )
 from transplanter.mesh_engine import MeshSweep
 from transplanter.pair_gate import per_gear
+from transplanter.pitch import driven_axis, driven_turn
 from transplanter.pitch.intermittent import IncompletePair, IntermittentLaw
 from transplanter.precision import rounded, significant
 from transplanter.tolerances import CONTACT_TOL_MM, SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
@@ -207,6 +208,11 @@ class IncompletePairStudy(StudyDefaults):
             nu = max(nu, float(np.max(np.abs(np.arctan2(dr2, r2)))))
         return band_of(self.design_backlash, nu, self.tolerance)
 
+    def _driven_radius(self, phi: np.ndarray) -> np.ndarray:
+        """The driven's radius at the pitch point, driver angles ``phi`` (rad): free play in mm per
+        radian of driven turn."""
+        return np.abs(self.pair.driver.r(phi) - driven_axis(self.pair))
+
     @property
     def min_clearance(self) -> float:
         return tolerance_budget(self.tolerance) / 2
@@ -268,10 +274,9 @@ class IncompletePairStudy(StudyDefaults):
 
     def judge(self, report) -> tuple[dict, list[str]]:
         """One source's figures per phase and the problems (module docstring)."""
-        pair = self.pair
         angle, play = report.samples("backlash")
         _, clear = report.samples("clearance")
-        r2 = np.abs(pair.driver.r(angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance))
+        r2 = self._driven_radius(angle)
         deg_play = np.degrees(play / r2)
         phase = self.phases(angle)
         lo, hi = self.band
@@ -324,10 +329,7 @@ class IncompletePairStudy(StudyDefaults):
                 )
         if "dwell" in out:  # where the locks hold the driven: the middle of its play, off its law's angle
             uni = self.phases(report.driver_angle) == 1
-            r2u = np.abs(
-                pair.driver.r(report.driver_angle)
-                - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance)
-            )
+            r2u = self._driven_radius(report.driver_angle)
             middle = report.driven_error[uni] + 0.5 * report.backlash[uni] / r2u[uni]
             out["dwell"]["held_off_law_deg"] = [
                 significant(float(np.degrees(middle.min()))),
@@ -520,9 +522,8 @@ class IncompletePairStudy(StudyDefaults):
     def _assemble(self, parts: dict, marks: dict, dxf_report, made: dict[str, bytes]) -> tuple[dict, dict[str, bytes]]:
         pair = self.pair
         external = pair.mesh == "external"
-        centre = pair.centre_distance if external else -pair.centre_distance
-        psi0 = float(pair.law.psi(np.zeros(1))[0])  # the driven's turn at driver angle 0
-        turn = round(math.degrees(math.pi + psi0 if external else -psi0) % 360.0, 9)
+        centre = driven_axis(pair)
+        turn = round(math.degrees(float(driven_turn(pair, np.zeros(1))[0])) % 360.0, 9)  # at driver angle 0
         placed = [
             (f"{self.name}.driver", parts["driver"], formats.placement()),
             (f"{self.name}.driven", parts["driven"], formats.placement(centre, 0.0, 0.0, math.radians(turn))),
@@ -584,9 +585,7 @@ class IncompletePairStudy(StudyDefaults):
             if isinstance(rep, str):
                 continue
             angle, play = rep.samples("backlash")
-            r2 = np.abs(
-                pair.driver.r(angle) - (pair.centre_distance if pair.mesh == "external" else -pair.centre_distance)
-            )
+            r2 = self._driven_radius(angle)
             curves[source] = (np.degrees(angle), np.degrees(play / r2))
         dwells = [(d.start, d.end) for d in pair.law.dwells]
         return plots.intermittent_figure(

@@ -26,6 +26,7 @@ from transplanter.families.making import Making, assembly_file, manufacture, ste
 from transplanter.families.pair_cut import ROLES, CutPair
 from transplanter.families.pair_proof import TrainHook
 from transplanter.meshing import MeshReport
+from transplanter.pitch import driven_axis
 from transplanter.precision import rounded
 from transplanter.teeth import ToothedGear
 
@@ -165,7 +166,7 @@ def bodies(name: str, train: TrainHook | None) -> list[str]:
 def _record(cut: CutPair, made: Made, dxf: MeshReport, min_clearance, train: TrainHook | None) -> dict:
     pair, sizing, name = cut.pair, cut.sized.sizing, cut.name
     external = pair.ring is None
-    centre = -pair.centre_distance if pair.ring == "driven" else pair.centre_distance
+    centre = driven_axis(pair)
     lo, hi = dxf.backlash_min.value, dxf.backlash_max.value
     return {
         "kind": "external" if external else "internal",

@@ -4,7 +4,7 @@ Maths only (numpy/scipy): no shapely, manifold3d or ezdxf here.
 """
 
 from transplanter.pitch.curve import CurvatureExtreme, PitchCurve
-from transplanter.pitch.pair import ConvexityIndex, GearPair, Mesh, ToothSizing
+from transplanter.pitch.pair import ConvexityIndex, GearPair, Mesh, ToothSizing, driven_axis, driven_turn
 from transplanter.pitch.periodic import (
     Constant,
     EccentricCircle,
@@ -29,4 +29,6 @@ __all__ = [
     "FocalEllipse",
     "EccentricCircle",
     "PeriodicIntegral",
+    "driven_axis",
+    "driven_turn",
 ]

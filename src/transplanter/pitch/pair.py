@@ -44,7 +44,31 @@ from transplanter.pitch.curve import PitchCurve
 from transplanter.pitch.periodic import MAX_LOBES, Periodic, PeriodicIntegral, Scaled, quintic_hermite
 from transplanter.tolerances import PITCH_CLOSURE_RAD
 
-__all__ = ["Mesh", "GearPair", "ConjugateRadius", "RatioRadius", "ToothSizing", "ConvexityIndex"]
+__all__ = [
+    "Mesh",
+    "GearPair",
+    "ConjugateRadius",
+    "RatioRadius",
+    "ToothSizing",
+    "ConvexityIndex",
+    "driven_axis",
+    "driven_turn",
+]
+
+
+def driven_axis(pair) -> float:
+    """Where the driven gear's axis is in the meshing frame (the driver's axis at the origin, the
+    driver turning clockwise): ``(a, 0)`` — ``(-a, 0)`` for a driven ring; ``pair`` any pair with a
+    ``centre_distance`` and a ``ring`` (None, "driver" or "driven")."""
+    return -pair.centre_distance if pair.ring == "driven" else pair.centre_distance
+
+
+def driven_turn(pair, phi1):
+    """The driven body's counter-clockwise turn in the meshing frame at driver rotations ``phi1``
+    (rad): ``π + θ2`` for an external pair (its +x axis faces the driver at the start), ``-θ2``
+    with a ring; θ2 = ``pair.driven_rotation(phi1)``."""
+    theta2 = pair.driven_rotation(phi1)
+    return (np.pi + theta2) if pair.ring is None else -theta2
 
 
 class Mesh(StrEnum):
