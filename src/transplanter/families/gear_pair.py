@@ -58,8 +58,26 @@ DEFAULT_WIDTH = 10.0
 
 def _bore(pair: GearPair, k: int, cutter) -> float:
     curve = (pair.driver, pair.driven)[k]
-    root = curve.min_radius().value - cutter.addendum * cutter.module  # the gear's dedendum is the cutter's addendum
+    # the gear's dedendum is the cutter's addendum
+    return _bore_of(curve.min_radius().value - cutter.addendum * cutter.module)
+
+
+def _bore_of(root: float) -> float:
+    """The plain bore (mm) of a gear whose smallest root radius is ``root`` (mm)."""
     return max(3.0, math.floor(2 * BORE_FRACTION * root) / 2)
+
+
+def _chosen_cutter(rack, cutter_teeth, module: float | None) -> RackCutter | ShaperCutter | None:
+    """The cutter the user chose at ``module`` (mm; None: its study's): the rack, a shaper of
+    ``cutter_teeth``, or None (neither given); both given is refused."""
+    inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
+    if rack:
+        if cutter_teeth is not None:
+            raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
+        return RackCutter(module)
+    if cutter_teeth is None:
+        return None
+    return ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), module)
 
 
 def pair_family(
@@ -159,7 +177,6 @@ def pair_family(
         return _incomplete_family(spec, law, **{k: stated[k] for k in _INCOMPLETE_OPTIONS})
     if lock_clearance is not None or lock_depth is not None or locking_play != LOCKING_PLAY_DEG:
         raise SpecError("lock_clearance, lock_depth and locking_play are for incomplete pairs (a law with dwells)")
-    inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
     inputs.boolean("scale_to_close", scale_to_close)
     inputs.boolean("trim_ring_tips", trim_ring_tips)
     inputs.boolean("allow_undercut", allow_undercut)
@@ -168,14 +185,9 @@ def pair_family(
     mesh = "internal" if internal else "external"
     found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring, scale_to_close=scale_to_close)
     pair, sizing = size_pair(found.pair, teeth, module, centre_distance)
-    if rack:
-        if cutter_teeth is not None:
-            raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
-        cutter = RackCutter(sizing.module)
-    elif cutter_teeth is None:
+    cutter = _chosen_cutter(rack, cutter_teeth, sizing.module)
+    if cutter is None:
         cutter = first_cutter(pair, sizing.teeth, sizing.module, backlash, **gate)
-    else:
-        cutter = ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), sizing.module)
     making = tuple(
         Making(width, Features() if pair.ring == role else Features(_bore(pair, k, cutter), keyway=False))
         for k, role in enumerate(("driver", "driven"))
@@ -247,12 +259,7 @@ def _incomplete_family(
             "an incomplete pair is sized by the module and one of teeth (the driver's on the first motion's sector) or "
             "centre distance"
         )
-    if rack:
-        if cutter_teeth is not None:
-            raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
-        cutter = RackCutter()
-    else:
-        cutter = ShaperCutter(16 if cutter_teeth is None else check_int("cutter_teeth", cutter_teeth, 8, 200))
+    cutter = _chosen_cutter(rack, cutter_teeth, None) or ShaperCutter(16)  # sized by the study
     mesh = "internal" if internal else "external"
     if internal and addendum == 1.0:
         addendum = (1.0, INTERNAL_RING_ADDENDUM)
@@ -290,8 +297,7 @@ def _sector_bore(pair, role: str, module: float) -> float:
     for motion in pair.law.motions:
         phi = np.linspace(math.radians(motion.start), math.radians(motion.end), 721)
         radii.append(float((pair.r1(phi, motion=motion) if role == "driver" else pair.r2(phi, motion=motion)).min()))
-    root = min(radii) - 1.25 * module
-    return max(3.0, math.floor(2 * BORE_FRACTION * root) / 2)
+    return _bore_of(min(radii) - 1.25 * module)
 
 
 #: an internal incomplete pair's ring addendum when none is given (modules): its tips clear the
