@@ -220,18 +220,24 @@ class IncompletePairStudy(StudyDefaults):
     def phases(self, phi: np.ndarray) -> np.ndarray:
         """Per driver angle (rad): 0 motion, 1 dwell, 2 transition (motion whose teeth pass a lock
         zone: the lock zone's roll and ``TRANSITION_PITCHES`` pitches beyond it)."""
-        pair = self.pair
-        out = np.where(pair.moving(phi), 0, 1)
+        out = np.where(self.pair.moving(phi), 0, 1)
         deg = np.mod(np.degrees(phi), 360.0)
-        for k, motion in enumerate(pair.law.motions):
-            table_phi, u = pair.roll(motion, 2001)
+        for lo, hi in self._transition_windows:
+            sel = (np.mod(deg - lo, 360.0) < np.mod(hi - lo, 360.0)) & (out == 0)
+            out[sel] = 2
+        return out
+
+    @cached_property
+    def _transition_windows(self) -> list[tuple[float, float]]:
+        """The driver angles (deg, from .. to) of each motion's transitions, its start's and its end's."""
+        out = []
+        reach = TRANSITION_PITCHES * math.pi * self.module
+        for k, motion in enumerate(self.pair.law.motions):
+            table_phi, u = self.pair.roll(motion, 2001)
             zone = self.gears.zones[k]
-            reach = TRANSITION_PITCHES * math.pi * self.module
             a = math.degrees(float(np.interp(min(zone[0] + reach, u[-1]), u, table_phi)))
             b = math.degrees(float(np.interp(max(u[-1] - zone[1] - reach, 0.0), u, table_phi)))
-            for lo, hi in ((motion.start, a), (b, motion.end)):
-                sel = (np.mod(deg - lo, 360.0) < np.mod(hi - lo, 360.0)) & (out == 0)
-                out[sel] = 2
+            out += [(motion.start, a), (b, motion.end)]
         return out
 
     def meshed(self, files: dict[str, bytes], sources=("outline", "dxf", "stl")) -> dict:
