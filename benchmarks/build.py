@@ -35,7 +35,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # the build in a child process that reports its own and its workers' peak resident set (kB)
 RUN = """
 import resource, sys
-from transplanter import cli
+from transplanter.app import cli
 code = cli.main(sys.argv[1:])
 peak = max(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)
 print(f"PEAK_KB {peak}", file=sys.stderr)
@@ -65,7 +65,9 @@ def timed(owner, name, label):
     setattr(owner, name, wrapper)
 t0 = time.perf_counter()
 import ezdxf, matplotlib.figure, trimesh
-from transplanter import cli, dxf, plots, solids, step, threemf
+from transplanter.app import cli
+from transplanter.report import plots
+from transplanter.shop import dxf, solids, step, threemf
 import transplanter.families as families
 spent["start: imports"] = time.perf_counter() - t0
 CALLS = {
@@ -93,7 +95,7 @@ sys.exit(code)
 STEP_ONLY = """
 import resource, sys
 from pathlib import Path
-from transplanter import dxf, step
+from transplanter.shop import dxf, step
 dxf_file, width = Path(sys.argv[1]), float(sys.argv[2])
 solid = step.prism(dxf.bulge_contours(dxf_file.read_bytes()), width)
 step.step_bytes(dxf_file.stem, solid)

@@ -28,9 +28,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def main() -> None:
-    from transplanter import clearance
     from transplanter.families import build_family, load_family
-    from transplanter.machine import posed
+    from transplanter.families.machines import planetary_posing
+    from transplanter.machine.bodies import posed
+    from transplanter.proof import clearance
 
     fam = load_family(ROOT / "parts" / "planetary_seed004.py")
     fam002 = load_family(ROOT / "parts" / "potseedling_seed002.py")
@@ -48,9 +49,9 @@ def main() -> None:
     files = {}
     for name in (*machine.uses, machine.name):
         files.update({f: (root / f).read_bytes() for f in manifest["parts"][name]["files"]})
-    record, names, _ = machine._inputs(files)
-    posed_machine, _ = machine._posed(files, record, names)
-    ready = posed(machine._bodies(files, names), posed_machine.links)
+    record, names, _ = planetary_posing.inputs(machine, files)
+    posed_machine, _ = planetary_posing.posed_machine(machine, files, record, names)
+    ready = posed(planetary_posing.bodies(machine, files, names), posed_machine.links)
     grid = 2 * math.pi * np.arange(360) / 360
     for a_name, b_name in (("needle_1", "needle_2"), ("planet_1", "planet_2")):
         a, b = ready[a_name], ready[b_name]
@@ -83,17 +84,18 @@ def gears_on_one_carrier(fam, root: Path, grid) -> None:
     import dataclasses
     import json
 
-    from transplanter import clearance
-    from transplanter.families.machine_record import read_bodies
-    from transplanter.machine import posed
+    from transplanter.families.machines import carrier_posing
+    from transplanter.families.machines.record import read_bodies
+    from transplanter.machine.bodies import posed
+    from transplanter.proof import clearance
 
     study = next(p for p in fam.parts if p.name == "machine")
     manifest = json.loads((root / "manifest.json").read_text())
     files = {}
     for name in (*study.uses, study.name):
         files.update({f: (root / f).read_bytes() for f in manifest["parts"][name]["files"]})
-    made, _ = study._machine(files)
-    ready = posed(read_bodies(files, study._specs()), study._links(made))
+    made, _ = carrier_posing.made_machine(study, files)
+    ready = posed(read_bodies(files, carrier_posing.body_specs(study)), carrier_posing.links(study, made))
     a, b = ready["gear_9"], ready["gear_11"]
     t0 = time.perf_counter()
     found = clearance.closest_approach(a, b, grid)

@@ -14,7 +14,7 @@ import time
 import numpy as np
 from scipy import optimize
 
-from transplanter.linkage.fourbar import FourBar, Link
+from transplanter.design.linkage.fourbar import FourBar, Link
 
 FB = FourBar(ground=125.0, crank=40.0, coupler=100.0, rocker=85.0, ground_angle=math.radians(142.0))
 TIP = (-173.8, 63.3)

@@ -34,8 +34,8 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 from reference_meshing import mesh_check_reference  # noqa: E402
 from transplanter.families import load_family  # noqa: E402
-from transplanter.pair_gate import generate_pair  # noqa: E402
-from transplanter.validate import mesh_check  # noqa: E402
+from transplanter.geometry.pair_gate import generate_pair  # noqa: E402
+from transplanter.proof.validate import mesh_check  # noqa: E402
 
 STEPS = 24
 

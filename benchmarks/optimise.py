@@ -14,8 +14,8 @@ time includes starting its cluster.
 import argparse
 import time
 
+from transplanter.design.optimise import optimise
 from transplanter.families import run_script
-from transplanter.optimise import optimise
 
 
 def main() -> None:

@@ -31,7 +31,7 @@ STAGES = (
     ("meshing proofs (outline, DXF, STL)", ("pair_proof.py", "mesh")),
     ("shop files made (DXF, STL, wire checks)", ("pair_assembly.py", "make")),
     ("STEP (OpenCASCADE, written and re-read)", ("formats.py", "write_checked")),
-    ("plots (matplotlib)", ("plots.py", "figure_files")),
+    ("plots (matplotlib)", ("figure.py", "figure_files")),
     ("teeth cut", ("gears.py", "cut_teeth")),
 )
 
@@ -58,7 +58,7 @@ def same(a: Path, b: Path) -> bool:
 
 
 def teeth_time() -> float:
-    from transplanter.families.gear_pair import pair_family
+    from transplanter.families.pairs.gear_pair import pair_family
 
     study = pair_family(EXAMPLE[0], teeth=24, module=1.5).parts[0]  # the call's own pair and cutter
     assert study.sized.sizing.teeth[0] == 24  # sized once, as the call does before it cuts
@@ -81,7 +81,7 @@ def main() -> None:
         ours = teeth_time()
         print(f"  cutting both gears' teeth alone:   {ours * 1e3:.0f} ms  -> the call is {wall / ours:.0f}x that")
         # where the rest goes: one profiled in-process call (imports included)
-        from transplanter import cli
+        from transplanter.app import cli
 
         prof = cProfile.Profile()
         start = time.perf_counter()

@@ -57,8 +57,8 @@ def read_with_repairs(data: bytes):
 
 
 def main() -> None:
-    from transplanter import dxf, step
-    from transplanter.arcs import bulge_area
+    from transplanter.shop import dxf, step
+    from transplanter.shop.arcs import bulge_area
 
     contours = []
     for verts, hole in dxf.bulge_contours(ring_dxf()):

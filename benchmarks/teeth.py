@@ -28,10 +28,10 @@ import time
 from pathlib import Path
 from unittest import mock
 
-from transplanter import teeth
-from transplanter.cutter import ShaperCutter
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.teeth import generate
+from transplanter.geometry import teeth
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.geometry.teeth import generate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from reference_teeth import boolean_reference, flank_deviation  # noqa: E402

@@ -25,10 +25,10 @@ import math
 
 import numpy as np
 
-from transplanter.cams import OscillatingRollerFollower, disc_cam
-from transplanter.linkage.open_chain import OpenChain3R, seed002_poses
-from transplanter.optimise import Problem
-from transplanter.pitch import PeriodicSpline
+from transplanter.design.linkage.open_chain import OpenChain3R, seed002_poses
+from transplanter.design.optimise import Problem
+from transplanter.geometry.cams import OscillatingRollerFollower, disc_cam
+from transplanter.geometry.pitch import PeriodicSpline
 
 CIRCLE_X = 70.0  # mm, the circle point's x of mechanism ③
 ARM_LENGTH = 125.0  # mm, link 3

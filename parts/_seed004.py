@@ -34,7 +34,7 @@ pitch curve passes 3.84 mm from its axis and the pitch-curve pressure deviation 
 
 **The design problem.** :func:`problem` keeps the paper's layout (4:1 lobes, three planets)
 and searches the ratio law, carrier radius and arm against the paper's twelve objectives
-(``transplanter.objectives``) for the largest module that meshes and can be cut. The speed
+(``transplanter.design.objectives``) for the largest module that meshes and can be cut. The speed
 ratio is not a free choice: ω1/ω2 = 1 - 1/n1 is the only one that returns the arm to its
 attitude each carrier turn, so the lobe number carries it. ``OPTIMUM`` is what it found.
 
@@ -53,16 +53,16 @@ import math
 
 import numpy as np
 
-from transplanter.backlash import design_backlash
-from transplanter.cutter import ShaperCutter
-from transplanter.cutter_choice import coarsest_cut
-from transplanter.interference import pair_limits, screen_module
-from transplanter.objectives import MIN_MODULE_MM, Site, seed004_objectives, worst_of
-from transplanter.optimise import Problem
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.planetary import ArmGeometry, DifferentialTrain
-from transplanter.solids import key_for
-from transplanter.train_rebuild import meshed_train
+from transplanter.design.objectives import MIN_MODULE_MM, Site, seed004_objectives, worst_of
+from transplanter.design.optimise import Problem
+from transplanter.design.planetary import ArmGeometry, DifferentialTrain
+from transplanter.geometry.backlash import design_backlash
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.cutter_choice import coarsest_cut
+from transplanter.geometry.interference import pair_limits, screen_module
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.proof.train_rebuild import meshed_train
+from transplanter.shop.solids import key_for
 
 # -- as published ------------------------------------------------------------------------
 

@@ -17,9 +17,9 @@ a finger nose of radius 5 mm centred on the fork apex.
 
 import math
 
+from transplanter.design.linkage.dh import DHFourBar
+from transplanter.design.linkage.planting import PlantingArm
 from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy
-from transplanter.linkage.dh import DHFourBar
-from transplanter.linkage.planting import PlantingArm
 
 CRANK_SPEED = 8 * math.pi  # rad/s, 240 rpm
 FORWARD_SPEED = 600.0  # mm/s

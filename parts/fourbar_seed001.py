@@ -18,9 +18,9 @@ a finger nose of radius 6 mm at the finger position.
 
 import math
 
+from transplanter.design.linkage.fourbar import FourBar
+from transplanter.design.linkage.planting import PlantingArm
 from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy
-from transplanter.linkage.fourbar import FourBar
-from transplanter.linkage.planting import PlantingArm
 
 LINKAGE = FourBar(ground=330.0, crank=60.0, coupler=200.0, rocker=213.0, ground_angle=math.radians(37.4), branch=-1)
 CRANK_SPEED = 2 * math.pi * 125 / 60  # rad/s

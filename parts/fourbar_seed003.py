@@ -16,11 +16,11 @@ drive shaft keyed to the crank; finger nose radius 5 mm.
 
 import math
 
+from transplanter.design.linkage.dynamics import LinkMass, MassModel
+from transplanter.design.linkage.fourbar import FourBar
+from transplanter.design.linkage.planting import PlantingArm
 from transplanter.families import BalancingStudy, Family, Joint, LinkPlatesStudy
-from transplanter.families.plates import finger_for_centre_of_mass
-from transplanter.linkage.dynamics import LinkMass, MassModel
-from transplanter.linkage.fourbar import FourBar
-from transplanter.linkage.planting import PlantingArm
+from transplanter.families.mechanisms.plates import finger_for_centre_of_mass
 
 # name: (a, b, c, d, (gb1, gb2), (gc1, gc2), (gd1, gd2), mb, mc, md [kg], phi [deg], rpm)
 TABLE_3 = {

@@ -13,11 +13,11 @@ first tooth meets the held arm 0.1 deg of driver after the asked end; the arm is
 locking play of the tray angle).
 """
 
-from transplanter.cutter import ShaperCutter
 from transplanter.families import Family, Making
-from transplanter.families.incomplete_pair import IncompletePairStudy
-from transplanter.pitch.intermittent import IntermittentLaw
-from transplanter.solids import Features
+from transplanter.families.pairs.incomplete_pair import IncompletePairStudy
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pitch.intermittent import IntermittentLaw
+from transplanter.shop.solids import Features
 
 #: the arm's cycle: at the tray from 150 to 210 deg of the driver, a modified-sine turn after it
 LAW = "150..210: dwell; 210..510: 2*pi*(phi - 7*pi/6)/(5*pi/3) - 0.35*sin(2*pi*(phi - 7*pi/6)/(5*pi/3))"

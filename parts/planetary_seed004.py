@@ -39,7 +39,6 @@ from _seed004 import (
     train,
 )
 
-from transplanter.cutter import ShaperCutter
 from transplanter.families import (
     Family,
     Layers,
@@ -50,8 +49,9 @@ from transplanter.families import (
     ToothedPairStudy,
     TrainProof,
 )
-from transplanter.proportions import CUTTER_ADDENDUM, RING_RIM
-from transplanter.solids import Features
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.proportions import CUTTER_ADDENDUM, RING_RIM
+from transplanter.shop.solids import Features
 
 # -- the published reading ---------------------------------------------------------------
 RING_TEETH = 80  # 20 on the planet, the paper's module

@@ -13,11 +13,11 @@ import dataclasses
 
 from _seed002 import CENTRE_DISTANCES, EXPONENT, OPTIMUM, chain, follower, swing
 
-from transplanter.cutter import ShaperCutter
 from transplanter.families import CamStudy, Family, Making, PitchPairStudy, SynthesisStudy, ToothedPairStudy
-from transplanter.families.carrier_machine import CarrierLayers, DoubleCarrierMachineStudy
-from transplanter.pitch import GearPair, Mesh, PitchCurve
-from transplanter.solids import Features
+from transplanter.families.machines.carrier_machine import CarrierLayers, DoubleCarrierMachineStudy
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pitch import GearPair, Mesh, PitchCurve
+from transplanter.shop.solids import Features
 
 MODULE = 1.5  # mm, both gear stages
 CUTTER_TEETH = 12  # shaper cutter

@@ -23,7 +23,7 @@ def seed000_arms():
 @pytest.fixture(scope="session")
 def built(transplanter_built) -> Path:
     """Every seed family built once per test run, for the tests that read exports: the
-    folder the pytest plugin built for the part items (``transplanter.pytest_plugin``; with
+    folder the pytest plugin built for the part items (``transplanter.app.pytest_plugin``; with
     pytest-xdist, one build shared by the workers)."""
     return transplanter_built
 

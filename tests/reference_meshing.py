@@ -13,8 +13,8 @@ import numpy as np
 import shapely
 from scipy import optimize
 
-from transplanter.errors import SpecError
-from transplanter.meshing import FOULING_PITCHES, MeshReport, _coprime, _polygon
+from transplanter.core.errors import SpecError
+from transplanter.proof.meshing import FOULING_PITCHES, MeshReport, _coprime, _polygon
 
 
 def _place(poly, angle, shift):

@@ -2,17 +2,18 @@
 placed at many roll positions (shapely), and the distance of exact flank points from it.
 
 What a user with shapely would do (ANCHORS.md's Boolean envelope); ``tests/test_teeth.py``
-holds :func:`transplanter.teeth.generate` to it within 1 µm and ``benchmarks/teeth.py`` times
+holds :func:`transplanter.geometry.teeth.generate` to it within 1 µm and ``benchmarks/teeth.py`` times
 both. Not part of the library: it only checks it.
 """
 
 import numpy as np
 import shapely
 
-from transplanter.cutter import Cutter, RackCutter, ShaperCutter
-from transplanter.pitch import PitchCurve
-from transplanter.teeth import ArcFrame, ToothedGear, _offset, _on_gear, _tip_region
-from transplanter.tolerances import CHORD_TOLERANCE
+from transplanter.core.tolerances import CHORD_TOLERANCE
+from transplanter.geometry.cutter import Cutter, RackCutter, ShaperCutter
+from transplanter.geometry.envelope import _offset, _on_gear, _tip_region
+from transplanter.geometry.pitch import PitchCurve
+from transplanter.geometry.teeth import ArcFrame, ToothedGear
 
 
 def boolean_reference(

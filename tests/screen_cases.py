@@ -22,13 +22,13 @@ import json
 import sys
 from pathlib import Path
 
-from transplanter import validate
-from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError
-from transplanter.interference import fouling_screen
-from transplanter.pair_gate import generate_pair
-from transplanter.planetary import ArmGeometry, DifferentialTrain
-from transplanter.tolerances import SHOP_OVERLAP_MM2
+from transplanter.core.errors import GeometryError
+from transplanter.core.tolerances import SHOP_OVERLAP_MM2
+from transplanter.design.planetary import ArmGeometry, DifferentialTrain
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.interference import fouling_screen
+from transplanter.geometry.pair_gate import generate_pair
+from transplanter.proof import validate
 
 RECORD = Path(__file__).parent / "data" / "screen_record.json"
 STEPS = 360

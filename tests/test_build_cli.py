@@ -9,11 +9,11 @@ from pathlib import Path
 import pytest
 import shapely
 
-from transplanter import cli
-from transplanter.errors import ExportError, PartScriptError, SpecError
-from transplanter.export import atomic_write
+from transplanter.app import cli
+from transplanter.app.testing import admesh_available, assert_admesh_clean
+from transplanter.core.errors import ExportError, PartScriptError, SpecError
 from transplanter.families import build_family, discover, load_family
-from transplanter.testing import admesh_available, assert_admesh_clean
+from transplanter.shop.export import atomic_write
 
 
 def _tree_hashes(root: Path) -> dict[str, str]:
@@ -85,8 +85,8 @@ def test_failing_part_keeps_the_others_and_previous_files(tmp_path):
     script = tmp_path / "two.py"
     script.write_text(
         "from transplanter.families import ArmStudy, Family\n"
-        "from transplanter.linkage.fourbar import FourBar\n"
-        "from transplanter.linkage.planting import PlantingArm\n"
+        "from transplanter.design.linkage.fourbar import FourBar\n"
+        "from transplanter.design.linkage.planting import PlantingArm\n"
         "DEPTH = {depth}\n"
         "def family():\n"
         "    good = PlantingArm(FourBar(125, 40, 100, 85), (-170.0, 60.0), 25.0, 600.0, name='good')\n"
@@ -115,7 +115,7 @@ def test_failing_part_keeps_the_others_and_previous_files(tmp_path):
         ("def family():\n    return 42\n", r"family\(\) returned int"),
         ("def family():\n    return 1 / 0\n", r"bad.py:2: family\(\) raised ZeroDivisionError"),
         (
-            "from transplanter.linkage.fourbar import FourBar\n"
+            "from transplanter.design.linkage.fourbar import FourBar\n"
             "def family():\n    return FourBar(100, 65, 70, 90, branch=2)\n",
             r"branch = 2 is out of range",
         ),
@@ -181,7 +181,7 @@ def test_analyse_prints_planetary_metrics_beside_the_paper(parts_dir, capsys):
 def test_optimise_command_is_reproducible(tmp_path, capsys):
     script = tmp_path / "bowl.py"
     script.write_text(
-        "from transplanter.optimise import Problem\n"
+        "from transplanter.design.optimise import Problem\n"
         "def problem():\n"
         "    cost = lambda v: (v[0] - 0.5) ** 2 + (v[1] - 1) ** 2\n"
         "    return Problem('bowl', (('x', -2.0, 2.0), ('y', -1.0, 3.0)), cost)\n"
@@ -232,7 +232,7 @@ def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
 
 def test_check_command_reruns_the_checks_on_disk(built, capsys):
     """The CLI's report of ``check`` on a built family (every family's proofs are re-run on its
-    files by its part items, ``transplanter.pytest_plugin``; gear pairs' lines below and in
+    files by its part items, ``transplanter.app.pytest_plugin``; gear pairs' lines below and in
     ``test_check_command_catches_a_tampered_part``)."""
     folder = built / "fourbar_seed001"
     assert cli.main(["check", "--run-script", str(folder)]) == 0
@@ -293,10 +293,10 @@ def test_check_reports_a_rebuilt_train_and_an_expected_finding(monkeypatch, caps
 
 
 SMALL_PAIR = """
-from transplanter.cutter import ShaperCutter
+from transplanter.geometry.cutter import ShaperCutter
 from transplanter.families import Family, Making, ToothedPairStudy
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.solids import Features
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.shop.solids import Features
 
 
 def family():
@@ -308,7 +308,7 @@ def family():
 
 
 def test_check_command_catches_a_tampered_part(tmp_path, capsys, monkeypatch):
-    from transplanter import dxf
+    from transplanter.shop import dxf
 
     monkeypatch.chdir(tmp_path)  # the project: --run-script runs scripts from inside it only
     script = tmp_path / "small.py"
@@ -348,7 +348,7 @@ def test_optimise_in_parallel_on_local_workers_and_a_dask_cluster(tmp_path, caps
 
     script = tmp_path / "bowl.py"
     script.write_text(
-        "from transplanter.optimise import Problem\n"
+        "from transplanter.design.optimise import Problem\n"
         "OFFSET = 0.25\n"
         "def problem():\n"
         "    cost = lambda v: (v[0] - OFFSET) ** 2 + (v[1] - 1) ** 2\n"
@@ -427,7 +427,7 @@ def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys, mon
     design.write_text(
         model
         + "\n\nSIDE = 4.0  # mm\n\n\ndef problem():\n"
-        + "    from transplanter.optimise import Problem\n\n"
+        + "    from transplanter.design.optimise import Problem\n\n"
         + "    return Problem('side', (('side', 1.0, 9.0),), lambda v: (v[0] - SIDE) ** 2)\n"
     )
     (parts / "plates.py").write_text(
@@ -493,7 +493,7 @@ def test_optimiser_options_out_of_range_are_named_one_by_one(parts_dir, capsys, 
 
 
 OPTIMISED = """
-from transplanter.optimise import Problem
+from transplanter.design.optimise import Problem
 
 # the design the part script builds (written by transplanter optimise --write)
 OPTIMUM = (
@@ -537,7 +537,7 @@ def test_the_optimiser_records_its_optimum_where_the_script_reads_it(tmp_path, c
 
 
 SET_PROBLEM = """
-from transplanter.optimise import Problem
+from transplanter.design.optimise import Problem
 
 BEST_1 = (0.0, 0.0)
 START = (0.9, 0.9)
@@ -557,7 +557,7 @@ def test_set_passes_numbers_to_problem_and_spread_seeds_around_x0(tmp_path, caps
     population is drawn around x0 (``Problem.spread``), the rest uniform, reproducibly."""
     import numpy as np
 
-    from transplanter.optimise import Problem, _initial
+    from transplanter.design.optimise import Problem, _initial
 
     script = tmp_path / "design.py"
     script.write_text(SET_PROBLEM)

@@ -12,14 +12,14 @@ import pytest
 import shapely
 from scipy import optimize
 
-from transplanter.cams import (
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.geometry.cams import (
     FlatFacedFollower,
     MotionProgram,
     OscillatingRollerFollower,
     TranslatingRollerFollower,
     disc_cam,
 )
-from transplanter.errors import GeometryError, SpecError
 
 RAD = math.radians
 

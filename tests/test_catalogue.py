@@ -18,10 +18,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from transplanter import cli, inputs
-from transplanter.errors import PartScriptError, SpecError, TransplanterError
-from transplanter.pitch.transmission import ratio_from_csv, transmission
-from transplanter.testing import SQUARE_SCRIPT as SQUARE
+from transplanter.app import cli
+from transplanter.app.testing import SQUARE_SCRIPT as SQUARE
+from transplanter.core import inputs
+from transplanter.core.errors import PartScriptError, SpecError, TransplanterError
+from transplanter.geometry.pitch.transmission import ratio_from_csv, transmission
 
 #: a case that takes longer than this is a hang, s
 CASE_LIMIT_S = 60
@@ -373,7 +374,7 @@ def test_check_run_script_without_a_recorded_script(capsys, square):
 # -- the optimiser -----------------------------------------------------------------------------
 
 PROBLEM = """
-from transplanter.optimise import Problem
+from transplanter.design.optimise import Problem
 def problem():
     return Problem("p", (("x", -1.0, 1.0),), lambda v: {cost})
 """
@@ -413,9 +414,9 @@ def test_a_bad_optimiser_option_is_named(capsys, tmp_path, options, words):
 
 
 def _api_cases():
-    from transplanter.cutter import ShaperCutter
     from transplanter.families import PlanetaryStudy, ToothedPairStudy, gear_pair, pair_family
-    from transplanter.pitch import GearPair, PitchCurve
+    from transplanter.geometry.cutter import ShaperCutter
+    from transplanter.geometry.pitch import GearPair, PitchCurve
 
     pair = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.1, 2), "external", 2)
     return [

@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from transplanter.linkage.dh import DHFourBar
-from transplanter.linkage.fourbar import Link
+from transplanter.design.linkage.dh import DHFourBar
+from transplanter.design.linkage.fourbar import Link
 
 MECHANISMS = {
     "A": DHFourBar(75.0, 35.0, 75.0, 80.0, np.radians(90.0)),

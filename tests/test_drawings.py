@@ -11,7 +11,7 @@ import ezdxf
 import pytest
 import shapely
 
-from transplanter import dxf
+from transplanter.shop import dxf
 
 
 def _drawing() -> bytes:

@@ -4,9 +4,9 @@ A refactor (issue 28 moved the gear pair's journey into stations and split ``tee
 change one byte of a DXF, STL, STEP, 3MF, CSV or JSON: ``golden/exports.sha256`` holds the
 SHA-256 of each, recorded from the default build before the change. A manifest is compared
 without its ``script`` entry (the digests of the part scripts, which a refactor of their imports
-changes by design) and its seal (``manifest_sha256``, which covers them); figures and reports
-(PNG, SVG, HTML) are left to the golden records — their bytes follow the matplotlib version, not
-the design.
+changes by design), its seal (``manifest_sha256``, which covers them) and the digests it lists of
+figures and reports (PNG, SVG, GIF, HTML): their bytes follow the matplotlib version and the
+report's layout, not the design, and are left to the golden records.
 
 A change that *means* to change an export rewrites the record with ``pytest --update-golden``
 and says why in its commit.
@@ -21,6 +21,25 @@ from pathlib import Path
 RECORD = Path(__file__).parent / "golden" / "exports.sha256"
 #: the files whose bytes are the design: shop files and data
 COMPARED = {".dxf", ".stl", ".step", ".3mf", ".csv", ".json"}
+#: what a manifest lists that is a picture or a page (compared by the golden records, not here)
+PICTURES = (".png", ".svg", ".gif", ".html")
+
+
+def _design_of(manifest: dict) -> dict:
+    """A manifest less what a refactor or a report's layout changes by design (module docstring)."""
+    manifest = {k: v for k, v in manifest.items() if k not in ("script", "manifest_sha256", "report")}
+    parts = manifest.get("parts")
+    if isinstance(parts, dict):
+        manifest["parts"] = {
+            name: {
+                **record,
+                "files": {f: d for f, d in record.get("files", {}).items() if not f.endswith(PICTURES)},
+            }
+            if isinstance(record, dict)
+            else record
+            for name, record in parts.items()
+        }
+    return manifest
 
 
 def export_digests(folder: Path) -> dict[str, str]:
@@ -31,10 +50,7 @@ def export_digests(folder: Path) -> dict[str, str]:
             continue  # the build's own records beside the families (.<family>.build.json) are no export
         data = path.read_bytes()
         if path.name == "manifest.json":
-            manifest = json.loads(data)
-            manifest.pop("script", None)
-            manifest.pop("manifest_sha256", None)  # its seal covers the script's digest too
-            data = json.dumps(manifest, sort_keys=True).encode()
+            data = json.dumps(_design_of(json.loads(data)), sort_keys=True).encode()
         out[path.relative_to(folder).as_posix()] = hashlib.sha256(data).hexdigest()
     return out
 

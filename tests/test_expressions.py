@@ -11,8 +11,8 @@ import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from transplanter.errors import SpecError
-from transplanter.pitch.transmission import MAX_EXPRESSION, _compile, ratio_from_expression
+from transplanter.core.errors import SpecError
+from transplanter.geometry.pitch.transmission import MAX_EXPRESSION, _compile, ratio_from_expression
 
 
 @pytest.mark.parametrize(

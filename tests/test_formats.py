@@ -7,12 +7,12 @@ import pytest
 import shapely
 import trimesh
 
-from transplanter import dxf, formats, step, threemf
-from transplanter.errors import ExportError, GeometryError
-from transplanter.export import csv_bytes
-from transplanter.families.making import Making, manufacture
-from transplanter.solids import Features, circle_polygon
-from transplanter.tolerances import SOLID_VOLUME_REL
+from transplanter.core.errors import ExportError, GeometryError
+from transplanter.core.tolerances import SOLID_VOLUME_REL
+from transplanter.families.builder.making import Making, manufacture
+from transplanter.shop import dxf, formats, step, threemf
+from transplanter.shop.export import csv_bytes
+from transplanter.shop.solids import Features, circle_polygon
 
 
 def _plate() -> shapely.Polygon:

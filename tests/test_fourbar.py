@@ -7,9 +7,9 @@ import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from transplanter.errors import AssemblyError, SpecError, TransplanterError
-from transplanter.linkage.fourbar import FourBar, GrashofClass, Link
-from transplanter.tolerances import DERIVATIVE_REL, LOOP_CLOSURE_MM
+from transplanter.core.errors import AssemblyError, SpecError, TransplanterError
+from transplanter.core.tolerances import DERIVATIVE_REL, LOOP_CLOSURE_MM
+from transplanter.design.linkage.fourbar import FourBar, GrashofClass, Link
 
 
 def _usable(fb: FourBar) -> bool:

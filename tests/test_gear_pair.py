@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from transplanter import cli
-from transplanter.errors import SpecError
-from transplanter.pitch.transmission import ratio_from_expression, size_pair, transmission
+from transplanter.app import cli
+from transplanter.core.errors import SpecError
+from transplanter.geometry.pitch.transmission import ratio_from_expression, size_pair, transmission
 
 
 def _files(folder):
@@ -54,7 +54,7 @@ def test_the_remedies_errors_name_are_options():
     """An error's remedies are the call's options (and the CLI's: --allow-undercut, --shift,
     --addendum, --no-trim-ring-tips), and a centre distance the teeth cannot carry exactly is said
     as adjusted."""
-    from transplanter.errors import GeometryError
+    from transplanter.core.errors import GeometryError
     from transplanter.families import pair_family
 
     with pytest.raises(GeometryError, match=r"undercut .* allow_undercut=True \(--allow-undercut\)"):
@@ -177,7 +177,7 @@ def test_the_cli_refuses_bad_input_with_exit_2_and_writes_nothing(tmp_path, caps
 
 def test_a_string_does_not_select_the_rack_cutter(tmp_path):
     """Regression (issue 31): ``rack='no'`` is truthy and cut the pair with a hob."""
-    from transplanter.errors import SpecError
+    from transplanter.core.errors import SpecError
     from transplanter.families import gear_pair
 
     with pytest.raises(SpecError, match="rack"):
@@ -187,8 +187,8 @@ def test_a_string_does_not_select_the_rack_cutter(tmp_path):
 def test_a_ratio_csv_without_a_header_keeps_its_first_sample_and_radians_are_named(tmp_path):
     """Regressions (issue 31): the first row was always skipped as a header, losing a sample;
     angles in radians were refused only by an unrelated cutter message."""
-    from transplanter.errors import SpecError
-    from transplanter.pitch.transmission import ratio_from_csv
+    from transplanter.core.errors import SpecError
+    from transplanter.geometry.pitch.transmission import ratio_from_csv
 
     deg = np.arange(0, 360, 10.0)
     ratio = 1 + 0.1 * np.cos(np.radians(deg))

@@ -11,16 +11,16 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter import cli
-from transplanter.cutter import ShaperCutter
-from transplanter.dxf import DxfPart, dxf_bytes
-from transplanter.errors import GeometryError, SpecError
-from transplanter.families.gear_pair import pair_family
-from transplanter.families.incomplete_pair import IncompletePairStudy
-from transplanter.machining import wire_violations
-from transplanter.pitch import PitchCurve
-from transplanter.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw, Motion, is_segmented
-from transplanter.teeth import generate
+from transplanter.app import cli
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.families.pairs.gear_pair import pair_family
+from transplanter.families.pairs.incomplete_pair import IncompletePairStudy
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pitch import PitchCurve
+from transplanter.geometry.pitch.intermittent import Dwell, IncompletePair, IntermittentLaw, Motion, is_segmented
+from transplanter.geometry.teeth import generate
+from transplanter.shop.dxf import DxfPart, dxf_bytes
+from transplanter.shop.machining import wire_violations
 
 LAW = "0..60: dwell; 60..360: 2*pi*(phi - pi/3)/(5*pi/3) - 0.35*sin(2*pi*(phi - pi/3)/(5*pi/3))"
 
@@ -112,6 +112,19 @@ def test_pair_cli_refuses_an_option_of_full_pairs_for_a_law_with_dwells(tmp_path
     assert cli.main(argv) == 2
     assert "shift does not apply to an incomplete pair" in capsys.readouterr().err
     assert not any(tmp_path.iterdir())
+
+
+def test_a_law_written_motion_first_starts_its_motion_in_a_transition():
+    """Regression (issue 41, examples/dwells.csv): 60° comes back from radians as 59.99999999999999°,
+    so the motion's first sample fell outside its transition window and was judged by the motion's
+    backlash band — every law written motion-first (a ratio CSV starting at 0°, or this text) was
+    refused with 0.7 mm of free play "at driver 60.00 deg"."""
+    law = "60..360: 2*pi*(phi - pi/3)/(5*pi/3) - 0.35*sin(2*pi*(phi - pi/3)/(5*pi/3)); 360..420: dwell"
+    (study,) = pair_family(law, module=3.0, centre_distance=100.0).parts
+    motion = study.pair.law.motions[0]
+    phi = np.radians([motion.start, motion.start + 0.5, 200.0, motion.end - 0.5])
+    assert np.degrees(phi[0]) < motion.start  # the rounding this guards against
+    assert study.phases(phi).tolist() == [2, 2, 0, 2]
 
 
 #: a planet driving its ring: standing 60 deg of the planet, then half a ring turn at a ratio of 0.54-0.66

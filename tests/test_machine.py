@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter.clearance import CLEARANCE_REL_TOL, CLEARANCE_TOL_MM, Posed, closest_approach
-from transplanter.errors import PartScriptError
+from transplanter.core.errors import PartScriptError
 from transplanter.families import Family, build_family
-from transplanter.families.study import Built, StudyDefaults
-from transplanter.machine import MOTION_POSITIONS
+from transplanter.families.builder.study import Built, StudyDefaults
+from transplanter.machine.bodies import MOTION_POSITIONS
+from transplanter.proof.clearance import CLEARANCE_REL_TOL, CLEARANCE_TOL_MM, Posed, closest_approach
 
 
 def _machine(built, family: str = "planetary_seed004"):
@@ -251,10 +251,10 @@ def test_a_part_is_built_from_the_files_of_the_parts_it_uses(tmp_path):
 
 
 def test_bad_machine_input_is_named():
-    from transplanter.arm_parts import arm_parts
-    from transplanter.errors import SpecError
+    from transplanter.core.errors import SpecError
+    from transplanter.design.planetary import ArmGeometry
     from transplanter.families import Layers
-    from transplanter.planetary import ArmGeometry
+    from transplanter.machine.arm_parts import arm_parts
 
     with pytest.raises(SpecError, match=r"layers\.plates = \(34, 26\)"):
         Layers((0, 12), (12, 24), (34, 26), (34, 40))
@@ -270,8 +270,8 @@ def test_bad_machine_input_is_named():
 def test_the_arm_parts_sit_where_the_train_puts_the_knee_and_the_tip():
     """The plate's knee-boss holes and the needle's point are where seed 004 eqs 9-10 put A and B
     in the planet's frame, and the needle's farthest point along it is B."""
-    from transplanter.arm_parts import arm_parts
-    from transplanter.planetary import ArmGeometry
+    from transplanter.design.planetary import ArmGeometry
+    from transplanter.machine.arm_parts import arm_parts
 
     arm = ArmGeometry(tip=167.86, knee=69.0, mount=math.radians(-37.93))
     made = arm_parts(arm)

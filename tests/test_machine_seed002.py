@@ -14,11 +14,11 @@ import sys
 import numpy as np
 import pytest
 
-from transplanter.carriers import CarrierLayout, DoubleCarrierMachine, MadeMesh, pair_pose
-from transplanter.errors import GeometryError, SpecError
-from transplanter.families.carrier_machine import GEARBOX_ABOVE_SOIL_MM, CarrierLayers
-from transplanter.machine import MOTION_POSITIONS
-from transplanter.pitch import GearPair, Mesh, PitchCurve
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.families.machines.carrier_machine import GEARBOX_ABOVE_SOIL_MM, CarrierLayers
+from transplanter.geometry.pitch import GearPair, Mesh, PitchCurve
+from transplanter.machine.bodies import MOTION_POSITIONS
+from transplanter.machine.carriers import CarrierLayout, DoubleCarrierMachine, MadeMesh, pair_pose
 
 
 def _machine(built):

@@ -9,15 +9,15 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter import arcs, dxf, machining, solids, stl
-from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, SpecError
+from transplanter.app.testing import admesh_available, assert_admesh_clean
+from transplanter.core.errors import GeometryError, SpecError
 from transplanter.families import Making
-from transplanter.families.making import manufacture
-from transplanter.pair_gate import generate_pair
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.teeth import generate
-from transplanter.testing import admesh_available, assert_admesh_clean
+from transplanter.families.builder.making import manufacture
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pair_gate import generate_pair
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.geometry.teeth import generate
+from transplanter.shop import arcs, dxf, machining, solids, stl
 
 
 @pytest.fixture(scope="module")

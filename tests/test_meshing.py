@@ -1,4 +1,4 @@
-"""The meshing proof without blind spots (``transplanter.meshing``): every gap counts, and the
+"""The meshing proof without blind spots (``transplanter.proof.meshing``): every gap counts, and the
 extremes are refined between the samples.
 
 The case is the issue's: seed 004's optimised ring/planet (72/18 teeth, m = 3.33 mm) cut with
@@ -14,11 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from transplanter import contact, mesh_engine, meshing
-from transplanter.backlash import tolerance_budget
-from transplanter.cutter import ShaperCutter
-from transplanter.pair_gate import generate_pair
-from transplanter.tolerances import CONTACT_TOL_MM
+from transplanter.core.tolerances import CONTACT_TOL_MM
+from transplanter.geometry import contact
+from transplanter.geometry.backlash import tolerance_budget
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pair_gate import generate_pair
+from transplanter.proof import mesh_engine, meshing
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "parts"))
 

@@ -14,7 +14,7 @@ import json
 import pytest
 
 from transplanter.families import load_family
-from transplanter.families.gears import ToothedPairStudy
+from transplanter.families.pairs.toothed import ToothedPairStudy
 
 SCRIPTS = ("fourbar_seed000", "fourbar_seed001", "fourbar_seed003", "planetary_seed004", "potseedling_seed002")
 

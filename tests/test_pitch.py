@@ -13,9 +13,9 @@ from hypothesis import strategies as st
 from scipy import integrate
 from scipy.special import ellipe
 
-from transplanter.errors import GeometryError, SpecError
-from transplanter.pitch import FourierSeries, GearPair, Mesh, PeriodicIntegral, PeriodicSpline, PitchCurve
-from transplanter.tolerances import PITCH_CLOSURE_RAD, PITCH_REFERENCE
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.core.tolerances import PITCH_CLOSURE_RAD, PITCH_REFERENCE
+from transplanter.geometry.pitch import FourierSeries, GearPair, Mesh, PeriodicIntegral, PeriodicSpline, PitchCurve
 
 ANGLES = np.linspace(-7.0, 13.0, 41)  # several turns, both signs
 

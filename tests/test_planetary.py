@@ -10,11 +10,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate
 
-from transplanter.agronomy import segment_distance, transplanting_metrics
-from transplanter.errors import GeometryError, SpecError
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.design.agronomy import segment_distance, transplanting_metrics
+from transplanter.design.planetary import ArmGeometry, DifferentialTrain
 from transplanter.families import run_script
-from transplanter.pitch import Constant, GearPair, PitchCurve
-from transplanter.planetary import ArmGeometry, DifferentialTrain
+from transplanter.geometry.pitch import Constant, GearPair, PitchCurve
 
 
 @pytest.fixture(scope="module")
@@ -197,7 +197,7 @@ def test_objectives_of_the_published_reading(seed004):
     """Seed 004's objectives i-xii measured on the published reading, with the readings of the
     objectives module: the angles, the box and the hole pass; the gearbox misses x at the
     paper's 2.78 mm module (the ring alone reaches 102.5 mm)."""
-    from transplanter.objectives import Site, gearbox_radius, seed004_objectives
+    from transplanter.design.objectives import Site, gearbox_radius, seed004_objectives
 
     site = Site((165.0, 70.0), math.radians(52.0), 120.0, 30.0)
     found = {(o.number, o.name): o for o in seed004_objectives(seed004["train"](), site, 2.78)}
@@ -219,10 +219,10 @@ def test_screen_of_a_circular_pair_is_circular_theory_then_the_cut_decides():
     form of circular theory exactly; it passes 36/9 teeth (ring tips trimmed, contact ratio
     >= 1.1), the cut refuses a 9-tooth planet (undercut), and ``coarsest_cut`` settles on 52/13,
     between the 48/12 and 56/14 that the full meshing check passes in ``screen_cases``."""
-    from transplanter.cutter import ShaperCutter
-    from transplanter.cutter_choice import coarsest_cut
-    from transplanter.interference import circular_internal, fouling_screen, screen_module
-    from transplanter.pair_gate import generate_pair
+    from transplanter.geometry.cutter import ShaperCutter
+    from transplanter.geometry.cutter_choice import coarsest_cut
+    from transplanter.geometry.interference import circular_internal, fouling_screen, screen_module
+    from transplanter.geometry.pair_gate import generate_pair
 
     tr = DifferentialTrain.from_ratio(4, (), 57.7, ArmGeometry(150, 80, -0.7), 0.7)
     s = screen_module(tr.pair)
@@ -281,7 +281,7 @@ def test_objective_viii_is_the_same_wherever_the_sampled_cycle_starts():
     the cycle saw the ground track set back by a period after the wrap and failed falsely."""
     import numpy as np
 
-    from transplanter.objectives import back_over_plant
+    from transplanter.design.objectives import back_over_plant
 
     s = np.linspace(0.0, 1.0, 100, endpoint=False)
     down = np.column_stack((-20.0 + 20.0 * s, 300.0 - 400.0 * s))  # to the push at (0, -100)
@@ -301,7 +301,7 @@ def test_objective_viii_does_not_jump_with_the_side_the_tip_first_leaves_the_soi
     The side is where the tip is when it reaches the seedling's height."""
     import numpy as np
 
-    from transplanter.objectives import back_over_plant
+    from transplanter.design.objectives import back_over_plant
 
     s = np.linspace(0.0, 1.0, 100, endpoint=False)
     down = np.column_stack((20.0 - 20.0 * s, 300.0 - 400.0 * s))
@@ -349,7 +349,7 @@ def test_the_pareto_front_keeps_the_feasible_designs_no_other_beats():
     """``non_dominated``: a design is on the front when it is feasible and no feasible design has
     both a coarser (or equal) module and a larger (or equal) margin, one of them strictly."""
     from transplanter.families import FrontPoint
-    from transplanter.families.trains import non_dominated
+    from transplanter.families.mechanisms.trains import non_dominated
 
     points = [
         FrontPoint("a", 2.5, 1.0, "v"),

@@ -5,13 +5,13 @@ import math
 import numpy as np
 import pytest
 
-from transplanter.errors import AssemblyError, GeometryError, SpecError
-from transplanter.linkage.fourbar import FourBar
-from transplanter.linkage.planting import PlantingArm
+from transplanter.core.errors import AssemblyError, GeometryError, SpecError
+from transplanter.design.linkage.fourbar import FourBar
+from transplanter.design.linkage.planting import PlantingArm
 
 
 def test_mechanism_b_in_a_few_lines():
-    from transplanter.linkage.dh import DHFourBar
+    from transplanter.design.linkage.dh import DHFourBar
 
     arm = PlantingArm.from_dh(DHFourBar(125, 40, 100, 85, math.radians(322)), -273.8, 63.3, -8 * math.pi, 600)
     m = arm.metrics(planting_depth=40)

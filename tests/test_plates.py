@@ -8,10 +8,10 @@ import ezdxf
 import numpy as np
 import pytest
 
-from transplanter import cli
-from transplanter.errors import SpecError
+from transplanter.app import cli
+from transplanter.core.errors import SpecError
 from transplanter.families import Joint, LinkPlatesStudy, load_family
-from transplanter.families.plates import TIP_PATH_TOL_MM, finger_for_centre_of_mass
+from transplanter.families.mechanisms.plates import TIP_PATH_TOL_MM, finger_for_centre_of_mass
 
 FOURBARS = {
     "fourbar_seed000": ("mechanism_A_plates", "mechanism_B_plates", "mechanism_C_plates"),

@@ -2,15 +2,14 @@
 
 # the inner pytest runs (in this process) drop the modules they import: import what a build
 # needs here, once, so that each run does not import matplotlib and the rest again
-import transplanter.cli
+import transplanter.app.cli
 import transplanter.families
-import transplanter.plots
-import transplanter.report  # noqa: F401
+import transplanter.report.pages  # noqa: F401
 
 ARM = """
 from transplanter.families import ArmStudy, Family
-from transplanter.linkage.fourbar import FourBar
-from transplanter.linkage.planting import PlantingArm
+from transplanter.design.linkage.fourbar import FourBar
+from transplanter.design.linkage.planting import PlantingArm
 
 
 def family():

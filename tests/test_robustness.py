@@ -19,18 +19,19 @@ import shapely
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from transplanter import cli, dxf, solids
-from transplanter.cams import MotionProgram, OscillatingRollerFollower, TranslatingRollerFollower, disc_cam
-from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, PartScriptError, SpecError, TransplanterError
-from transplanter.export import Transaction, leftovers, recover
+from transplanter.app import cli
+from transplanter.core.errors import GeometryError, PartScriptError, SpecError, TransplanterError
+from transplanter.design.linkage.burmester import FourPoses, Pose
+from transplanter.design.linkage.dh import DHFourBar
+from transplanter.design.linkage.fourbar import FourBar
+from transplanter.design.planetary import ArmGeometry
 from transplanter.families import Making, ToothedPairStudy
-from transplanter.linkage.burmester import FourPoses, Pose
-from transplanter.linkage.dh import DHFourBar
-from transplanter.linkage.fourbar import FourBar
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.planetary import ArmGeometry
-from transplanter.teeth import generate
+from transplanter.geometry.cams import MotionProgram, OscillatingRollerFollower, TranslatingRollerFollower, disc_cam
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.geometry.teeth import generate
+from transplanter.shop import dxf, solids
+from transplanter.shop.export import Transaction, leftovers, recover
 
 # -- the catalogue: each case gives a clear error from the project's hierarchy ---------------
 
@@ -195,8 +196,8 @@ def test_bad_input_gives_a_clear_error(label, call, error, message):
 
 ARM = """
 from transplanter.families import ArmStudy, Family
-from transplanter.linkage.fourbar import FourBar
-from transplanter.linkage.planting import PlantingArm
+from transplanter.design.linkage.fourbar import FourBar
+from transplanter.design.linkage.planting import PlantingArm
 PARTS = {parts}
 def family():
     arms = [PlantingArm(FourBar(125, 40, 100, 85), (-170.0, y), 25.0, 600.0, name=n) for n, y in PARTS]
@@ -318,10 +319,10 @@ def test_any_exception_in_a_part_is_recorded_and_check_fails(tmp_path, monkeypat
 
 
 PAIR = """
-from transplanter.cutter import ShaperCutter
+from transplanter.geometry.cutter import ShaperCutter
 from transplanter.families import Family, Making, ToothedPairStudy
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.solids import Features
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.shop.solids import Features
 
 
 def family():

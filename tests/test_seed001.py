@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from transplanter.design.linkage.fourbar import Link
 from transplanter.families import load_family
-from transplanter.linkage.fourbar import Link
 
 
 @pytest.fixture(scope="module")

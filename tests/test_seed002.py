@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
-from transplanter.errors import GeometryError, SpecError
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.design.linkage.burmester import FourPoses, Pose
+from transplanter.design.linkage.open_chain import OpenChain3R, seed002_poses
 from transplanter.families import run_script
-from transplanter.linkage.burmester import FourPoses, Pose
-from transplanter.linkage.open_chain import OpenChain3R, seed002_poses
 
 
 @pytest.fixture(scope="module")

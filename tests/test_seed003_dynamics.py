@@ -7,10 +7,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from transplanter.errors import SpecError
+from transplanter.core.errors import SpecError
+from transplanter.design.linkage import dynamics as dyn
+from transplanter.design.linkage.fourbar import FourBar, Link
 from transplanter.families import load_family
-from transplanter.linkage import dynamics as dyn
-from transplanter.linkage.fourbar import FourBar, Link
 
 # Table 4 (type I finger, vertical COM acceleration, m/s^2): n -> (A_n, B_n, R_n)
 TABLE_4 = {

@@ -23,18 +23,18 @@ import pytest
 import shapely
 from shapely import affinity
 
-from transplanter.backlash import backlash_band, design_backlash, resolve_backlash, tolerance_budget
-from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError, SpecError
+from transplanter.core.errors import GeometryError, SpecError
+from transplanter.core.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
 from transplanter.families import Making, ToothedPairStudy
-from transplanter.interference import circular_internal
-from transplanter.pair_gate import generate_pair
-from transplanter.pitch import GearPair, PitchCurve
-from transplanter.solids import Features
-from transplanter.tolerances import SHOP_OVERLAP_MM2, WIRE_EDM_TOLERANCE
-from transplanter.validate import mesh_check
+from transplanter.geometry.backlash import backlash_band, design_backlash, resolve_backlash, tolerance_budget
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.interference import circular_internal
+from transplanter.geometry.pair_gate import generate_pair
+from transplanter.geometry.pitch import GearPair, PitchCurve
+from transplanter.proof.validate import mesh_check
+from transplanter.shop.solids import Features
 
-# -- an independent reader: ezdxf's own exact ARC/LINE entities, nothing of transplanter.dxf --
+# -- an independent reader: ezdxf's own exact ARC/LINE entities, nothing of transplanter.shop.dxf --
 
 
 def _exact_contours(path, layer="CUT", sagitta=2e-5):
@@ -282,7 +282,7 @@ def test_a_shop_assembles_the_pair_from_the_assembly_object_and_the_dxfs(built, 
 
 
 def test_timing_marks_are_in_the_dxf_and_the_solid(built):
-    from transplanter import stl
+    from transplanter.shop import stl
 
     for family, _, rec in _shipped(built):
         a = rec["results"]["assembly"]

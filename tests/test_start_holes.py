@@ -9,8 +9,8 @@ import ezdxf
 import numpy as np
 import shapely
 
-from transplanter import dxf
-from transplanter.dxf import START_HOLE_MARGIN_MM
+from transplanter.shop import dxf
+from transplanter.shop.dxf import START_HOLE_MARGIN_MM
 
 
 def _contours_and_start_holes(data: bytes):

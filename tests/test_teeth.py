@@ -13,11 +13,11 @@ import pytest
 import shapely
 
 from reference_teeth import boolean_reference, flank_deviation
-from transplanter.cutter import ShaperCutter, involute
-from transplanter.errors import GeometryError, SpecError
+from transplanter.core.errors import GeometryError, SpecError
 from transplanter.families import run_script
-from transplanter.pitch import Constant, GearPair, PitchCurve
-from transplanter.teeth import CHORD_TOLERANCE, ArcFrame, generate
+from transplanter.geometry.cutter import ShaperCutter, involute
+from transplanter.geometry.pitch import Constant, GearPair, PitchCurve
+from transplanter.geometry.teeth import CHORD_TOLERANCE, ArcFrame, generate
 
 FLANK = 1e-3  # mm
 
@@ -234,7 +234,7 @@ def test_rack_cut_circular_gears_are_exact_involutes(z, x):
     """A rack generates the exact involute of the gear's base circle; its space on the pitch
     circle is ``π m / 2 + thickening - 2 x m tan α``. Envelope points within 1e-9 mm, the
     outline within the chord tolerance (0.25 µm) of exact involute points."""
-    from transplanter.cutter import RackCutter
+    from transplanter.geometry.cutter import RackCutter
 
     m = 2.0
     cutter = RackCutter(m, dedendum=1.6, thickening=0.05)
@@ -264,10 +264,10 @@ def test_rack_cut_circular_gears_are_exact_involutes(z, x):
 
 
 def test_a_rack_cut_non_circular_pair_meshes_with_its_backlash():
-    from transplanter import validate
-    from transplanter.backlash import backlash_band
-    from transplanter.cutter import RackCutter
-    from transplanter.pair_gate import generate_pair
+    from transplanter.geometry.backlash import backlash_band
+    from transplanter.geometry.cutter import RackCutter
+    from transplanter.geometry.pair_gate import generate_pair
+    from transplanter.proof import validate
 
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.1, 2), "external", 2).sized(module=2.0)
     driver, driven = generate_pair(pair, RackCutter(2.0), sizing.teeth, backlash=0.1)
@@ -279,8 +279,8 @@ def test_a_rack_cut_non_circular_pair_meshes_with_its_backlash():
 
 
 def test_a_rack_refuses_rings_and_concave_pitch_curves():
-    from transplanter.cutter import RackCutter
-    from transplanter.pair_gate import generate_pair
+    from transplanter.geometry.cutter import RackCutter
+    from transplanter.geometry.pair_gate import generate_pair
 
     ring_pair, ring = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.05, 2), "internal", 3).sized(module=2.0)
     with pytest.raises(GeometryError, match="cannot cut a ring gear"):
@@ -295,8 +295,8 @@ def test_a_rack_refuses_rings_and_concave_pitch_curves():
 def test_a_cutter_without_a_module_takes_its_studys():
     """Sizing stated once: a cutter given without a module is sized by the study; on its own
     it cannot cut, and its thickening (mm) waits for the module too."""
-    from transplanter.cutter import RackCutter
     from transplanter.families import ToothedPairStudy
+    from transplanter.geometry.cutter import RackCutter
 
     pair = GearPair.from_driver(PitchCurve.ellipse(30.0, 0.1, 2), "external", 2)
     with pytest.raises(SpecError, match="the cutter has no module"):
@@ -351,7 +351,7 @@ def test_the_fast_assembly_and_the_symmetry_give_the_boolean_outline(monkeypatch
     computed and the spaces unioned: the same region but for where the tip polyline's vertices
     fall (within a tenth of the chord tolerance), the same tip lands and undercut (the general
     path's lands follow the tip polyline, within its chord error)."""
-    from transplanter import teeth
+    from transplanter.geometry import teeth
 
     curve = curve()
     cutter = ShaperCutter(16, 2.0)
@@ -388,7 +388,7 @@ def test_secondary_cutting_is_measured_alike_on_a_sector_and_on_the_whole_ring(m
     the cutter: the depth found is the one the whole ring gives."""
     import re
 
-    from transplanter import teeth
+    from transplanter.geometry import teeth
 
     def depth():
         with pytest.raises(GeometryError, match="secondary cutting") as err:

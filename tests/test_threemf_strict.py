@@ -5,7 +5,7 @@ rejected all 10 assemblies in strict mode)."""
 
 import lib3mf
 
-from transplanter import threemf
+from transplanter.shop import threemf
 
 
 def _strict(data: bytes) -> list[str]:

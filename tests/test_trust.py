@@ -8,10 +8,10 @@ import os
 
 import pytest
 
-from transplanter import cli
-from transplanter.errors import ExportError
-from transplanter.export import Transaction, recover
-from transplanter.testing import SQUARE_SCRIPT as SQUARE
+from transplanter.app import cli
+from transplanter.app.testing import SQUARE_SCRIPT as SQUARE
+from transplanter.core.errors import ExportError
+from transplanter.shop.export import Transaction, recover
 
 #: a script that leaves a mark when it runs
 MARKER = "import pathlib\npathlib.Path({marker!r}).write_text('ran')\n"

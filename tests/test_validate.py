@@ -16,16 +16,16 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter.backlash import backlash_band
-from transplanter.cams import FlatFacedFollower, MotionProgram, OscillatingRollerFollower, disc_cam
-from transplanter.cutter import ShaperCutter
-from transplanter.errors import GeometryError
+from transplanter.core.errors import GeometryError
+from transplanter.design.planetary import ArmGeometry, DifferentialTrain
 from transplanter.families import FOLLOWER_TOL, ToothedPairStudy, run_script
-from transplanter.pair_gate import generate_pair
-from transplanter.pitch import Constant, GearPair, PitchCurve
-from transplanter.planetary import ArmGeometry, DifferentialTrain
-from transplanter.teeth import generate
-from transplanter.validate import follower_check, mesh_check, train_check
+from transplanter.geometry.backlash import backlash_band
+from transplanter.geometry.cams import FlatFacedFollower, MotionProgram, OscillatingRollerFollower, disc_cam
+from transplanter.geometry.cutter import ShaperCutter
+from transplanter.geometry.pair_gate import generate_pair
+from transplanter.geometry.pitch import Constant, GearPair, PitchCurve
+from transplanter.geometry.teeth import generate
+from transplanter.proof.validate import follower_check, mesh_check, train_check
 
 
 @pytest.fixture(scope="module")
@@ -217,7 +217,7 @@ def test_closed_form_check_gives_the_reference_answers(ellipse_pair, four_lobe_r
     round-off, contact counts exactly where the teeth do not overlap (where they do, the
     counted places of an overlap can differ by one)."""
     from reference_meshing import mesh_check_reference
-    from transplanter.tolerances import MESH_REFERENCE_MM
+    from transplanter.core.tolerances import MESH_REFERENCE_MM
 
     for name, pair, driver, driven, teeth in _reference_cases(ellipse_pair, four_lobe_ring_pair):
         new = mesh_check(pair, driver, driven, 2.0, steps=24, teeth=teeth, window=3.0, refine=False)

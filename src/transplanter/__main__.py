@@ -2,6 +2,6 @@
 
 import sys
 
-from transplanter.cli import main
+from transplanter.app.cli import main
 
 sys.exit(main())

@@ -3,7 +3,7 @@
 One module per kind of study (``linkage``, ``plates``, ``pitch``, ``trains``, ``gears``,
 ``synthesis``, ``cams``; the gear pair's stations in ``pair_cut``, ``pair_proof`` and
 ``pair_assembly``), ``making`` for the shop files they share (through
-:mod:`transplanter.formats`), ``scripts``, ``manifest``, ``workers``, ``build`` and ``checking``
+:mod:`transplanter.shop.formats`), ``scripts``, ``manifest``, ``workers``, ``build`` and ``checking``
 for families themselves (loading a script, its record, building in processes, building,
 ``transplanter check``), ``study`` for what the builder
 asks of a study (the :class:`Study` protocol: ``name``, ``cost``, ``build``, ``check``,
@@ -67,23 +67,37 @@ Study kinds so far
     contour.
 
 :func:`check_family` re-runs the checks on a built folder (``transplanter check``).
+
+Packages
+--------
+``builder``
+    scripts, the Study protocol, making, manifests, workers, the build and ``check``.
+``pairs``
+    pitch-curve, toothed and incomplete pairs, the one-call ``gear_pair``.
+``mechanisms``
+    four-bar arms and plates, synthesis, cams, planetary trains.
+``machines``
+    the whole machines of seeds 004 and 002.
+
+May import
+    every station below it (core … report); ``builder`` < ``pairs``, ``mechanisms`` < ``machines``.
 """
 
-from transplanter.families.build import build_families, build_family
-from transplanter.families.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
-from transplanter.families.checking import check_families, check_family
-from transplanter.families.gear_pair import gear_pair, pair_family
-from transplanter.families.gears import MESH_STEPS, ToothedPairStudy
-from transplanter.families.linkage import ArmStudy, BalancingStudy
-from transplanter.families.machine import Layers, PlanetaryMachineStudy
-from transplanter.families.making import Making
-from transplanter.families.pitch import PitchPairStudy
-from transplanter.families.plates import Joint, LinkPlatesStudy
-from transplanter.families.scripts import Family, discover, load_family, run_script
-from transplanter.families.study import Built, Checked, Study, StudyDefaults, Table
-from transplanter.families.synthesis import SynthesisStudy
-from transplanter.families.trains import FrontPoint, PlanetaryStudy, TrainProof
-from transplanter.families.workers import part_outcome
+from transplanter.families.builder.build import build_families, build_family
+from transplanter.families.builder.checking import check_families, check_family
+from transplanter.families.builder.making import Making
+from transplanter.families.builder.scripts import Family, discover, load_family, run_script
+from transplanter.families.builder.study import Built, Checked, Study, StudyDefaults, Table
+from transplanter.families.builder.workers import part_outcome
+from transplanter.families.machines.planetary_machine import Layers, PlanetaryMachineStudy
+from transplanter.families.mechanisms.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
+from transplanter.families.mechanisms.linkage import ArmStudy, BalancingStudy
+from transplanter.families.mechanisms.plates import Joint, LinkPlatesStudy
+from transplanter.families.mechanisms.synthesis import SynthesisStudy
+from transplanter.families.mechanisms.trains import FrontPoint, PlanetaryStudy, TrainProof
+from transplanter.families.pairs.gear_pair import gear_pair, pair_family
+from transplanter.families.pairs.pitch import PitchPairStudy
+from transplanter.families.pairs.toothed import MESH_STEPS, ToothedPairStudy
 
 __all__ = [
     "Layers",

@@ -1,0 +1,14 @@
+"""The vocabulary every station shares: one exception hierarchy, named tolerances, checked user
+input, the precision figures are written with, and the search for a function's true extremes.
+
+Takes
+    nothing from the rest of the package (numpy and scipy only).
+Gives
+    :mod:`~transplanter.core.errors` (``TransplanterError`` and its subclasses, each naming the
+    parameter, its value and its limit), :mod:`~transplanter.core.tolerances` (each tolerance with
+    the reason for its value), :mod:`~transplanter.core.inputs` (numbers, booleans, folders and files
+    a user hands in, checked in one place), :mod:`~transplanter.core.precision` and
+    :mod:`~transplanter.core.extrema`.
+May import
+    nothing of transplanter: this is the lowest layer (``tests/test_layout.py``).
+"""

@@ -1,0 +1,147 @@
+"""How a prismatic part is made: section, solid, and its shop files (DXF, STL, STEP) with their checks."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from transplanter.core.errors import ExportError, GeometryError, SpecError, check_int, check_number
+from transplanter.core.precision import rounded, significant
+from transplanter.core.tolerances import WIRE_EDM_TOLERANCE
+from transplanter.shop import formats, machining, solids
+
+__all__ = ["Making", "manufacture", "step_file", "assembly_file", "check_shop_files"]
+
+
+#: the thinnest part made, mm: below it an extruded solid's mesh is no longer watertight in
+#: float round-off, and no wire-EDM plate is that thin
+MIN_FACE_WIDTH_MM = 0.1
+
+
+@dataclass(frozen=True)
+class Making:
+    """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions,
+    whether a STEP is written, how many to make and the contour tolerance (± mm) the shop holds —
+    the last two are stated in the part's notes."""
+
+    width: float
+    features: solids.Features = field(default_factory=solids.Features)
+    wire: tuple[float, float] = (0.25, 0.02)
+    dxf_versions: tuple[str, ...] = ("R2000",)
+    #: write the STEP too (what CAD users open; ~1 s per 1000 arcs of outline)
+    step: bool = True
+    #: how many of the part to make (0: drawn as the proof of what another part is cut from — its
+    #: notes say which)
+    quantity: int = 1
+    #: contour tolerance the shop holds, ± mm normal to the surface
+    tolerance: float = WIRE_EDM_TOLERANCE
+
+    def __post_init__(self) -> None:
+        check_number("face width", self.width, MIN_FACE_WIDTH_MM, 10_000.0, unit="mm")
+        if not isinstance(self.features, solids.Features):
+            raise SpecError(f"features must be solids.Features, got {type(self.features).__name__}")
+        if not isinstance(self.wire, tuple | list) or len(self.wire) != 2:
+            raise SpecError.out_of_range("wire", self.wire, "(diameter, spark gap) in mm")
+        check_number("wire diameter", self.wire[0], 0.0, 5.0, low_open=True, unit="mm")
+        check_number("wire spark gap", self.wire[1], 0.0, 1.0, unit="mm")
+        if not isinstance(self.step, bool):
+            raise SpecError.out_of_range("step", self.step, "True or False")
+        check_int("quantity", self.quantity, 0, 10_000)
+        check_number("tolerance", self.tolerance, 0.0, 1.0, low_open=True, unit="mm")
+        for v in self.dxf_versions:
+            if v not in ("R2000", "R12"):
+                raise SpecError.out_of_range("dxf_versions", self.dxf_versions, "'R2000' and/or 'R12'")
+
+
+def manufacture(
+    stem: str,
+    blank,
+    cut,
+    making: Making,
+    notes: tuple[str, ...],
+    locate,
+    marks: tuple = (),
+    paths: tuple = (),
+) -> tuple[dict, dict, formats.MadePart]:
+    """Section, solid and shop files of one prismatic part, each verified by its format
+    (:mod:`transplanter.shop.formats`): the STL, every DXF version, the STEP.
+
+    ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12"); ``marks`` and
+    ``paths`` go to the DXF's ANNOTATION layer (``formats.MadePart``); the notes get the quantity and
+    the contour tolerance from ``making``. Returns the results, the files by name and the
+    :class:`~transplanter.shop.formats.MadePart` (for assemblies).
+    """
+    made = f"make {making.quantity}" if making.quantity else "do not cut this drawing as it is (see the notes above)"
+    notes = (*notes, f"{made}; contour tolerance +/-{making.tolerance:g} mm")
+    section = solids.part_section(blank, cut, making.features)
+    wire_r = making.wire[0] / 2 + making.wire[1]
+    bad = machining.wire_violations(section, wire_r)
+    if not bad.is_empty:
+        worst = max(bad.geoms, key=lambda g: g.area)
+        where = locate(worst.centroid.coords[0])
+        raise GeometryError(
+            f"{stem}: an inside corner at {where} is tighter than the wire radius {wire_r:.4g} mm "
+            f"(wire {making.wire[0]:g} mm + gap {making.wire[1]:g} mm; {len(bad.geoms)} places, "
+            f"{worst.area:.3g} mm² uncut here); use a finer wire or a larger cutter tip fillet"
+        )
+    solid = solids.part_solid(blank, cut, making.features, making.width)
+    made = formats.MadePart(stem, section, solid, making.width, tuple(notes), tuple(marks), tuple(paths))
+    results: dict = {
+        "section_area_mm2": rounded(section.area, 6),
+        "solid_volume_mm3": rounded(solid.volume(), 6),
+        "volume_rel_error": significant(abs(solid.volume() / made.volume - 1)),
+        "wire_radius_mm": wire_r,
+    }
+    files: dict[str, bytes] = {}
+    for fmt in (formats.STL, *(formats.Dxf(v) for v in making.dxf_versions)):
+        data = fmt.write(made)
+        results["stl" if fmt is formats.STL else f"dxf_{fmt.version}"] = fmt.verify(made, data)
+        files[f"{stem}{fmt.suffix}"] = data
+    if making.step:
+        results["step"] = step_file(made, files)
+    return results, files, made
+
+
+def step_file(made: formats.MadePart, files: dict[str, bytes]) -> dict:
+    """Write ``<stem>.step`` of a made part into ``files``; the results of its check.
+
+    A study that also re-reads an assembly may call :func:`manufacture` without the STEP and
+    this after the re-read: OpenCASCADE (~250 MB resident once imported) then joins the process
+    after the 3MF reader's transient (~300 MB for the seed-004 ring), not under it."""
+    data, results = formats.STEP.write_checked(made)
+    files[f"{made.stem}{formats.STEP.suffix}"] = data
+    return results
+
+
+def assembly_file(name: str, placed: list[tuple[str, formats.MadePart, np.ndarray]]) -> tuple[dict, dict[str, bytes]]:
+    """``<name>.assembly.3mf`` of the made parts ``(body name, part, 4×4 placement)``, re-read and
+    verified (one body per part, of its volume, none overlapping another); its results and file."""
+    data = formats.THREEMF.write([(body, part.solid, at) for body, part, at in placed])
+    volumes = {body: part.volume for body, part, _ in placed}
+    res = formats.THREEMF.verify(data, list(volumes), volumes)
+    return {"file": f"{name}.assembly.3mf", **res}, {f"{name}.assembly.3mf": data}
+
+
+def check_shop_files(files: dict[str, bytes], widths: dict[str, float], assembly: tuple[str, list[str]] | None = None):
+    """Re-read what a built part left on disk, beyond its own checks: each STEP (``stem`` →
+    width in ``widths``) against its DXF (``formats.Step.verify``), and the 3MF ``assembly``
+    ``(file name, body names)``. Returns ``(results, problems)``."""
+    results: dict = {}
+    problems: list[str] = []
+
+    def reread(fname: str, verify, *args) -> None:
+        try:
+            results[fname] = verify(*args)
+        except (GeometryError, ExportError) as exc:
+            results[fname] = {"error": str(exc)}
+            problems.append(f"{fname}: {exc}")
+
+    for stem, width in sorted(widths.items()):
+        step_name, dxf_name = f"{stem}.step", f"{stem}.dxf"
+        if step_name in files and dxf_name in files:
+            reread(step_name, formats.STEP.verify, stem, files[step_name], files[dxf_name], width)
+    if assembly is not None and assembly[0] in files:
+        fname, bodies = assembly
+        reread(fname, formats.THREEMF.verify, files[fname], bodies)
+    return results, problems

@@ -1,0 +1,11 @@
+"""Whole-machine studies: seed 004's differential planetary machine (:mod:`~.planetary_machine`,
+posed from its pair's files in :mod:`~.planetary_posing`, judged in :mod:`~.planetary_judging`),
+seed 002's double-carrier machine (:mod:`~.carrier_machine`, posed in :mod:`~.carrier_posing`,
+judged in :mod:`~.carrier_judging`) with the parts it makes (:mod:`~.carrier_making`); what both
+share: the planes their bodies sit in (:mod:`~.layers`), what they judge and record alike — a
+tool's phases and work depth, the motion table and pictures (:mod:`~.judging`) — and what every
+machine study writes and reads (:mod:`~.record`).
+
+May import
+    the other family packages (builder, pairs, mechanisms) and the stations below the families.
+"""

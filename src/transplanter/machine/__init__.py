@@ -1,0 +1,20 @@
+"""Whole machines: bodies posed over the cycle from their made parts, judged pair by pair.
+
+A machine is bodies in planes, posed over its cycle, with the clearance between every two that
+could meet (:mod:`~transplanter.machine.bodies`); seed 004's planting arms as plates
+(:mod:`~transplanter.machine.arm_parts`); seed 002's double carrier as moving links
+(:mod:`~transplanter.machine.carriers`) and its parts as a designer draws them
+(:mod:`~transplanter.machine.carrier_parts`); the cycle to watch (:mod:`~transplanter.machine.animation`).
+
+Takes
+    made gears and their meshing (:mod:`transplanter.proof`), trains (:mod:`transplanter.design`).
+Gives
+    posed bodies, motion tables and judged pairs.
+May import
+    every station below it: core, geometry, design, shop, proof.
+
+``transplanter.machine`` was a module before 0.2; its names stay importable from here.
+"""
+
+from transplanter.machine.bodies import *  # noqa: F403 - the former module's names
+from transplanter.machine.bodies import __all__  # noqa: F401

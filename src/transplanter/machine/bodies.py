@@ -1,0 +1,334 @@
+"""A machine as bodies in planes, posed over its cycle, and the clearance between every two that
+could meet.
+
+A **body** is a plane section in its own (DXF) frame, extruded over a z-range across the machine,
+carried by a **link** (fixed, or one of the mechanism's moving members) whose pose — frame origin
+and angle in the machine frame — is a function of the driver angle with a stated speed bound
+(:class:`Link`). Two bodies *could meet* when their z-ranges overlap and no joint or mesh joins
+them; for each such pair :func:`clearances` finds the smallest distance over the cycle with
+:func:`transplanter.proof.clearance.closest_approach` (bounded, not sampled) and judges it against the
+clearance the designer states — except *working* pairs (a needle in the seedling box or in the
+soil: the tool meets its work there), whose figure is recorded but not judged.
+
+:class:`PlanetaryMachine` poses seed 004's train: ring, carrier, N planets and what they carry,
+from the train as rebuilt from the made parts' meshing (:func:`train_rebuild.train_check`), so
+the planets turn as their re-read DXFs let them, not as the design curves say.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import shapely
+
+from transplanter.core.errors import SpecError
+from transplanter.design.planetary import DifferentialTrain
+from transplanter.proof.clearance import CLEARANCE_TOL_MM, Posed, closest_approach, posed_sections, reach, relative
+
+__all__ = [
+    "Body",
+    "Link",
+    "Pair",
+    "Judged",
+    "PlanetaryMachine",
+    "pairs_to_judge",
+    "posed",
+    "clearances",
+    "clearances_under_play",
+    "turned",
+    "motion_rows",
+    "tool_phases",
+    "work_depth",
+    "MOTION_POSITIONS",
+]
+
+#: positions of the motion table per cycle (the judge re-poses the bodies from it)
+MOTION_POSITIONS = 1440
+
+
+@dataclass(frozen=True)
+class Link:
+    """A member's pose over the cycle: ``pose(theta) -> (x, y, angle)`` arrays (mm, rad) of its
+    frame in the machine frame, ``theta`` the driver angle (rad); ``speed`` the largest speed of
+    its frame origin and ``turn_rate`` of its angle, per rad of driver (bounds, not samples)."""
+
+    name: str
+    pose: Callable
+    speed: float = 0.0
+    turn_rate: float = 0.0
+    #: the rigid frames its origin is a fixed point of, ``(frame, x, y)`` mm (what
+    #: :class:`~transplanter.proof.clearance.Posed` bounds two bodies' distance by)
+    origin_in: tuple[tuple[str, float, float], ...] = ()
+
+    @staticmethod
+    def fixed(name: str = "fixed") -> Link:
+        return Link(name, Posed.fixed)
+
+
+@dataclass(frozen=True)
+class Body:
+    """A body: its section in its frame (mm), the file it is read from, its z-range across the
+    machine (mm) and the link that carries it."""
+
+    name: str
+    section: shapely.Polygon = field(repr=False)
+    z: tuple[float, float]
+    link: str
+    dxf: str = ""
+    #: mounted face down: ``section`` is its DXF's mirrored about the DXF's x-axis
+    mirrored: bool = False
+
+    def __post_init__(self) -> None:
+        if not (len(self.z) == 2 and self.z[0] < self.z[1]):
+            raise SpecError.out_of_range(f"{self.name}: z", self.z, "(z0, z1) mm with z0 < z1")
+
+
+@dataclass(frozen=True)
+class Pair:
+    """Two bodies that could meet; ``working``: why the tool meets its work there (not judged)."""
+
+    a: str
+    b: str
+    working: str = ""
+
+
+@dataclass(frozen=True)
+class Judged:
+    """A pair's closest approach over the cycle: distance mm (0: they overlap), driver angle deg,
+    the bound below which it cannot be, and the per-position distances on the motion grid."""
+
+    pair: Pair
+    distance: float
+    at_deg: float
+    bound: float
+    sampled: np.ndarray = field(repr=False)
+    #: False: ``distance`` is only a lower bound (a pair settled without measuring, see
+    #: :func:`clearances_under_play`)
+    exact: bool = True
+
+
+def pairs_to_judge(bodies: list[Body], joined: set[frozenset], working: dict[frozenset, str]) -> list[Pair]:
+    """Every two bodies whose z-ranges overlap and that neither a joint nor a mesh joins
+    (``joined``: pairs of names; two fixed bodies never move against each other and are left
+    out); ``working`` names the pairs where the tool meets its work."""
+    out = []
+    for i, a in enumerate(bodies):
+        for b in bodies[i + 1 :]:
+            key = frozenset((a.name, b.name))
+            if key in joined or (a.link == b.link == "fixed"):
+                continue
+            if min(a.z[1], b.z[1]) - max(a.z[0], b.z[0]) > 0:
+                out.append(Pair(a.name, b.name, working.get(key, "")))
+    return out
+
+
+#: the simpler outlines measured first (``clearance.Posed.levels``), mm from the section
+LEVELS_MM = (0.05, 0.005)
+
+
+def posed(bodies: list[Body], links: dict[str, Link]) -> dict[str, Posed]:
+    """Each body on its link, ready to be judged: its speed bound, its simpler outlines
+    (Douglas-Peucker keeps vertices of the outline, so each is within its tolerance of the section
+    both ways) and, for a body fixed or turning about the origin, the radii its points keep."""
+    out = {}
+    for body in bodies:
+        link = links[body.link]
+        levels = tuple((body.section.simplify(tol), tol) for tol in LEVELS_MM)
+        radii = None
+        if link.speed == 0.0:
+            radii = (float(shapely.distance(shapely.Point(0.0, 0.0), body.section)), reach(body.section))
+        speed = link.speed + link.turn_rate * reach(body.section)
+        out[body.name] = Posed(body.section, link.pose, speed, levels, radii, link.origin_in)
+    return out
+
+
+def clearances(
+    bodies: dict[str, Posed], pairs: list[Pair], theta: np.ndarray, tol: float = CLEARANCE_TOL_MM
+) -> list[Judged]:
+    """Each pair's closest approach over the cycle sampled by ``theta`` (rad; refined between
+    the samples under the speed bounds, :func:`clearance.closest_approach`); ``bodies`` as
+    :func:`posed` gives them."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def judge(p: Pair) -> Judged:
+        found = closest_approach(bodies[p.a], bodies[p.b], theta, tol)
+        return Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
+
+    # two at a time: GEOS and numpy release the GIL for most of a pair's measuring
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return list(pool.map(judge, pairs))
+
+
+def turned(link: Link, turn: float) -> Link:
+    """``link`` turned a further ``turn`` rad about its frame origin (a planet at an end of its
+    play): its points move no faster than before."""
+
+    def pose(theta):
+        x, y, a = link.pose(theta)
+        return x, y, np.asarray(a, dtype=float) + turn
+
+    return Link(link.name, pose, link.speed, link.turn_rate)
+
+
+def clearances_under_play(
+    bodies: list[Body],
+    ready: dict[str, Posed],
+    links: dict[str, Link],
+    pairs: list[Pair],
+    theta: np.ndarray,
+    turn: float,
+    playing: set[str],
+    nominal: dict[frozenset, Judged],
+    settle: float,
+    tol: float = CLEARANCE_TOL_MM,
+) -> list[Judged]:
+    """Each pair's closest approach with every link in ``playing`` (the planets) at either end of
+    its play, ± ``turn`` rad, independently: the smallest over those poses, for the pairs that
+    have a playing link (the others are not returned); ``ready`` the bodies as :func:`posed`
+    gives them on ``links``.
+
+    A turn of ``turn`` moves no point of a body further than ``turn`` times its reach, so a pair
+    whose ``nominal`` closest approach less those moves stays at or above ``settle`` (the
+    clearance judged against) is settled without measuring: its figure is that lower bound,
+    marked not ``exact``."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    by_name = {b.name: b for b in bodies}
+    todo = [p for p in pairs if {by_name[p.a].link, by_name[p.b].link} & playing]
+
+    def judge(p: Pair) -> Judged:
+        la, lb = by_name[p.a].link, by_name[p.b].link
+        known = nominal[frozenset((p.a, p.b))]
+        moves = sum(turn * reach(by_name[n].section) for n, ln in ((p.a, la), (p.b, lb)) if ln in playing)
+        if known.distance - moves >= settle:
+            return Judged(
+                p,
+                max(0.0, known.distance - moves),
+                known.at_deg,
+                max(0.0, known.bound - moves),
+                known.sampled,
+                exact=False,
+            )
+        signs_a = (-1.0, 1.0) if la in playing else (0.0,)
+        signs_b = (-1.0, 1.0) if lb in playing and lb != la else (0.0,)
+        worst = None
+        for sa in signs_a:
+            for sb in signs_b:
+                # (a turn about the link's origin leaves its speed bound and outlines as they were)
+                a = dataclasses.replace(ready[p.a], pose=turned(links[la], sa * turn).pose)
+                b = dataclasses.replace(ready[p.b], pose=turned(links[lb], (sa if lb == la else sb) * turn).pose)
+                found = closest_approach(a, b, theta, tol)
+                if worst is None or found.distance < worst.distance:
+                    worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
+        assert worst is not None
+        return worst
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        return list(pool.map(judge, todo))
+
+
+def work_depth(tool: Body, work: Body, link: Link, theta: np.ndarray, tip, back) -> tuple[float, float, float]:
+    """How far from its ``tip`` a tool (a needle, on ``link``) enters a fixed ``work`` body: the
+    farthest point of the tool inside the work, measured along the tool (``back`` → ``tip``, its
+    frame, mm) from the tip, at ``theta``. Returns (deepest mm, driver angle rad, at most mm — the
+    deepest plus what it can gain between the positions: its points' speed bound times half a step,
+    ``theta`` uniform over a turn)."""
+    tip, back = np.asarray(tip, dtype=float), np.asarray(back, dtype=float)
+    u = (tip - back) / np.linalg.norm(tip - back)
+    pose = tuple(np.broadcast_to(v, theta.shape) for v in link.pose(theta))
+    # the work in the tool's frame at each position (it is fixed in the machine)
+    local = posed_sections(work.section, *relative(Posed.fixed(theta), pose))
+    depth = np.zeros(len(theta))
+    for k, g in enumerate(shapely.intersection(tool.section, local)):
+        pts = shapely.get_coordinates(g)
+        if len(pts):
+            depth[k] = float(np.max((tip - pts) @ u))
+    k = int(np.argmax(depth))
+    speed = link.speed + link.turn_rate * float(np.linalg.norm(tip))
+    return float(depth[k]), float(theta[k]), float(depth[k]) + speed * math.pi / len(theta)
+
+
+def tool_phases(tip: np.ndarray, pick, plant, names: tuple[str, str, str, str]) -> list[str]:
+    """A tool's phase at each position of its ``tip`` path (n, 2): inside ``pick`` (the seedling
+    box: ``names[0]``), inside ``plant`` (the soil: ``names[2]``), and between them ``names[1]``
+    (from pick to plant) or ``names[3]`` (back from plant to pick)."""
+    inside = shapely.contains_xy(pick, tip[:, 0], tip[:, 1])
+    below = shapely.contains_xy(plant, tip[:, 0], tip[:, 1])
+    event = np.where(inside, 1, np.where(below, 2, 0))
+    if not event.any():
+        return [names[1]] * len(tip)
+    last = int(event[np.flatnonzero(event)[-1]])  # the event before the first position
+    out = []
+    for e in event:
+        last = int(e) or last
+        out.append(names[0] if e == 1 else names[2] if e == 2 else names[1] if last == 1 else names[3])
+    return out
+
+
+def motion_rows(bodies: list[Body], links: dict[str, Link], theta: np.ndarray) -> tuple[list[str], list[list[str]]]:
+    """The motion table a judge re-poses the bodies from: ``driver_deg`` and for each body
+    ``NAME.x_mm``, ``NAME.y_mm``, ``NAME.angle_deg`` (its DXF frame in the machine frame)."""
+    header = ["driver_deg"]
+    columns = [np.degrees(theta)]
+    for b in bodies:
+        x, y, a = (np.broadcast_to(v, theta.shape) for v in links[b.link].pose(theta))
+        header += [f"{b.name}.x_mm", f"{b.name}.y_mm", f"{b.name}.angle_deg"]
+        columns += [x, y, np.degrees(a)]
+    table = np.stack(columns, axis=1)
+    return header, [[f"{v:.6f}" for v in row] for row in table]
+
+
+@dataclass(frozen=True)
+class PlanetaryMachine:
+    """Seed 004's train as moving links: ``made`` the ``DifferentialTrain`` rebuilt from the parts'
+    meshing (its pair a ``train_rebuild`` pair whose planet angle carries the measured error);
+    ``error_slope`` the largest rate of that error per rad of ring turn (from its samples).
+
+    The driver is the carrier: θ its clockwise turn from the start (rad). The machine frame is the
+    train's (seed 004 eqs 3-10: O at the origin, y up); the ring's DXF frame has arm I's carrier line
+    on +x at the start, so the ring's angle is ``φH0 - (ω1/ω2) θ``, the carrier's ``φH0 - θ`` (its
+    first planet shaft on +x is arm I's), planet k's centre ``|OO1| e(φH0 - θ - 2πk/N)`` and its angle
+    the rebuilt train's planet attitude."""
+
+    made: DifferentialTrain
+    error_slope: float = 0.0
+
+    @cached_property
+    def links(self) -> dict[str, Link]:
+        """The ring, the carrier, each planet (``planet.k``, carrying what is fixed to it) and
+        ``fixed``, with their speed bounds."""
+        tr = self.made
+        w, start, a = tr.omega_ratio, tr.carrier_start, tr.pair.centre_distance
+        phi = np.linspace(0.0, 2 * math.pi, 20_000, endpoint=False)
+        # the planet turns at -1 + (1 - ω) (dψ/dφ + error slope) per rad of carrier (planetary
+        # docstring); dψ/dφ is the pair's ratio, sampled 20 000 times a turn: between two samples
+        # it cannot exceed them by more than their largest difference
+        ratio = np.asarray(tr.pair.ratio(phi), dtype=float)
+        between = float(np.max(np.abs(np.diff(np.append(ratio, ratio[0])))))
+        rate = float(np.max(np.abs(-1.0 + (1.0 - w) * ratio))) + abs(1.0 - w) * (between + self.error_slope)
+        out = {
+            "fixed": Link.fixed(),
+            "ring": Link("ring", lambda t: _turning(t, start - w * np.asarray(t)), 0.0, abs(w)),
+            "carrier": Link("carrier", lambda t: _turning(t, start - np.asarray(t)), 0.0, 1.0),
+        }
+        for k in range(tr.planets):
+            out[f"planet.{k + 1}"] = Link(f"planet.{k + 1}", lambda t, k=k: self._planet(t, k), a, rate)
+        return out
+
+    def _planet(self, theta, k: int):
+        s = self.made.state(np.atleast_1d(np.asarray(theta, dtype=float)), k)
+        return s.centre[:, 0], s.centre[:, 1], s.planet_angle
+
+    def tips(self, theta) -> list[np.ndarray]:
+        """Each arm's needle tip over ``theta``, (n, 2) mm."""
+        return [self.made.state(theta, k).tip for k in range(self.made.planets)]
+
+
+def _turning(theta, angle):
+    x, y, z = Posed.fixed(theta)
+    return x, y, np.asarray(angle, dtype=float) + z
