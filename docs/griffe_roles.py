@@ -7,6 +7,11 @@ module, or a documented public class, function, method or attribute in one), res
 resolves it — the full path, or a name relative to the object's module or class; otherwise it
 becomes plain code. ``~`` shows the last part of the path only. Loaded by ``mkdocs.yml``
 (``extensions`` of the python handler); it changes nothing in the package.
+
+The package documents its constants and fields with ``#:`` comments above them (as Sphinx's
+autodoc reads them; ``core.tolerances`` is all such constants): griffe reads only a string after an
+assignment, so those comments become the attribute's docstring first, and the constants appear in
+the reference with their reasons.
 """
 
 from __future__ import annotations
@@ -16,6 +21,25 @@ import re
 import griffe
 
 ROLE = re.compile(r":(?:mod|class|func|meth|attr|data|exc|obj):`(~?)([^`<>]+?)`")
+#: a documentation comment line, as autodoc reads them: ``#: text`` on the lines above an assignment
+COMMENT = re.compile(r"^\s*#:\s?(.*)$")
+
+
+def _comment_docstrings(obj) -> None:
+    """Every attribute under ``obj`` without a docstring gets the ``#:`` lines right above it."""
+    for member in list(obj.members.values()):
+        if member.is_alias:
+            continue
+        if member.is_attribute and member.docstring is None and member.lineno:
+            source = member.module.lines
+            found, k = [], member.lineno - 2
+            while k >= 0 and (m := COMMENT.match(source[k])):
+                found.insert(0, m.group(1))
+                k -= 1
+            if found:
+                member.docstring = griffe.Docstring("\n".join(found), lineno=k + 2, parent=member)
+        elif member.is_module or member.is_class:
+            _comment_docstrings(member)
 
 
 def _rendered(obj) -> bool:
@@ -47,6 +71,7 @@ class SphinxRoles(griffe.Extension):
     """Rewrites every docstring of the package once it is loaded."""
 
     def on_package(self, *, pkg, **kwargs) -> None:  # griffe >= 1.0
+        _comment_docstrings(pkg)
         self._walk(pkg, pkg)
 
     def _walk(self, obj, pkg) -> None:

@@ -24,7 +24,7 @@ from the ones before it (``tests/test_layout.py`` holds it):
 
 Modules that stood at the top before 0.2 (``transplanter.teeth``, ``transplanter.pitch``,
 ``transplanter.families.gears`` …) are still importable under those names: each is the same
-module object as its new home (:data:`MOVED`).
+module object as its new home (``transplanter.MOVED``).
 """
 
 from __future__ import annotations

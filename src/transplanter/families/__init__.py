@@ -1,15 +1,15 @@
 """Part families: the scripts in ``parts/`` and building them into ``exports/``.
 
-One module per kind of study (``linkage``, ``plates``, ``pitch``, ``trains``, ``gears``,
-``synthesis``, ``cams``; the gear pair's stations in ``pair_cut``, ``pair_proof`` and
-``pair_assembly``), ``making`` for the shop files they share (through
-:mod:`transplanter.shop.formats`), ``scripts``, ``manifest``, ``workers``, ``build`` and ``checking``
-for families themselves (loading a script, its record, building in processes, building,
-``transplanter check``), ``study`` for what the builder
-asks of a study (the :class:`Study` protocol: ``name``, ``cost``, ``build``, ``check``,
-``tables``, ``analysis_files``; a new kind is a new module and the part script using it), and
-``gear_pair`` for one toothed pair made in one call from a transmission ratio
-(``transplanter pair``).
+One module per kind of study, in packages by what it makes: ``pairs`` (``pitch``, ``toothed``
+with the gear pair's stations ``pair_cut``, ``pair_proof`` and ``pair_assembly``,
+``incomplete_pair``, and ``gear_pair``: one toothed pair made in one call from a transmission
+ratio, ``transplanter pair``), ``mechanisms`` (``linkage``, ``plates``, ``synthesis``, ``cams``,
+``trains``) and ``machines`` (the whole machines of seeds 004 and 002); ``builder`` for families
+themselves: ``making`` for the shop files they share (through :mod:`transplanter.shop.formats`),
+``scripts``, ``manifest``, ``workers``, ``build`` and ``checking`` (loading a script, its record,
+building in processes, building, ``transplanter check``) and ``study`` for what the builder asks
+of a study (the :class:`Study` protocol: ``name``, ``cost``, ``build``, ``check``, ``tables``,
+``analysis_files``; a new kind is a new module and the part script using it).
 
 A part script is a short Python file that defines ``family()`` returning a :class:`Family`
 (like manifold3d's ``examples/*.py`` define ``run()``). The builder loads each script,

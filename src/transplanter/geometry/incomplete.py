@@ -49,6 +49,7 @@ import numpy as np
 import shapely
 
 from transplanter.core.errors import GeometryError, SpecError, check_number
+from transplanter.core.forwarding import forward
 from transplanter.geometry.cutter import Cutter
 from transplanter.geometry.pair_gate import per_gear
 from transplanter.geometry.pitch.intermittent import Dwell, IncompletePair, Motion
@@ -65,6 +66,18 @@ __all__ = [
     "INTERNAL_LOCK_SHORT_OF_TIPS",
     "default_lock_depth",
 ]
+
+#: names this module gave before issue 41 moved them to modules of their own, still found here
+__getattr__ = forward(
+    __name__,
+    {
+        "entry_contacts": "transplanter.geometry.dwell_entry",
+        "TIP_BAND": "transplanter.geometry.dwell_entry",
+        "sector_pitches": "transplanter.geometry.toothed_sectors",
+        "virtual_curve": "transplanter.geometry.toothed_sectors",
+        "CURVE_SAMPLES_PER_DEG": "transplanter.geometry.toothed_sectors",
+    },
+)
 
 #: the transition window either side of a dwell, in circular pitches of roll
 TRANSITION_PITCHES = 1.5

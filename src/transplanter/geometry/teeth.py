@@ -62,6 +62,7 @@ import shapely
 from scipy.spatial import cKDTree
 
 from transplanter.core.errors import GeometryError, SpecError, check_int, check_number
+from transplanter.core.forwarding import forward
 from transplanter.core.tolerances import CHORD_TOLERANCE
 from transplanter.geometry.cutter import Cutter, ShaperCutter
 from transplanter.geometry.envelope import _profile_grid, _tip_region, _turned
@@ -78,6 +79,14 @@ __all__ = [
     "ToothedGear",
     "generate",
 ]
+
+#: names this module gave before issue 41 moved them to modules of their own, still found here
+__getattr__ = forward(
+    __name__,
+    {
+        "SECTOR_RUN_OUT": "transplanter.geometry.secondary_cutting",
+    },
+)
 
 
 @dataclass(frozen=True)

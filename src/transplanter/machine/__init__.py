@@ -16,5 +16,14 @@ May import
 ``transplanter.machine`` was a module before 0.2; its names stay importable from here.
 """
 
+from transplanter.core.forwarding import forward
 from transplanter.machine.bodies import *  # noqa: F403 - the former module's names
 from transplanter.machine.bodies import __all__  # noqa: F401
+
+#: names this module gave before issue 41 moved them to modules of their own, still found here
+__getattr__ = forward(
+    __name__,
+    {
+        "LEVELS_MM": "transplanter.machine.bodies",
+    },
+)

@@ -15,5 +15,16 @@ May import
 ``transplanter.report`` was a module before 0.2; its names stay importable from here.
 """
 
+from transplanter.core.forwarding import forward
 from transplanter.report.pages import *  # noqa: F403 - the former module's names
 from transplanter.report.pages import __all__  # noqa: F401
+
+#: names this module gave before issue 41 moved them to modules of their own, still found here
+__getattr__ = forward(
+    __name__,
+    {
+        "OPEN_ROWS": "transplanter.report.tables",
+        "ROUND_OFF": "transplanter.report.tables",
+        "SLIDER_SUFFIX": "transplanter.report.pages",
+    },
+)

@@ -59,6 +59,10 @@ NAMED_UNITS = {
     "base_radius": "mm",
     "pivot_distance": "mm",
     "roller_radius": "mm",
+    # seed 002's synthesis: the feasible region's boxes and the extra links' points, mm
+    "feasible_boxes": "mm",
+    "extra_link2": "mm",
+    "extra_link3": "mm",
 }
 #: keys that are the same quantity as a key recorded with its unit elsewhere in the record
 _SAME_AS = {"follower_stroke": "stroke"}

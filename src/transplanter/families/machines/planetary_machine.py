@@ -45,6 +45,7 @@ from pathlib import Path
 import shapely
 
 from transplanter.core.errors import GeometryError, SpecError, check_number
+from transplanter.core.forwarding import forward
 from transplanter.design.objectives import Site
 from transplanter.design.planetary import DifferentialTrain
 from transplanter.families.builder.making import Making, check_shop_files, manufacture
@@ -59,6 +60,14 @@ from transplanter.shop import solids
 from transplanter.shop.export import json_bytes
 
 __all__ = ["Layers", "PlanetaryMachineStudy", "PHASES"]
+
+#: names this module gave before issue 41 moved them to modules of their own, still found here
+__getattr__ = forward(
+    __name__,
+    {
+        "START_POSE_DEG": "transplanter.families.machines.planetary_posing",
+    },
+)
 
 
 @dataclass(frozen=True)

@@ -35,6 +35,7 @@ import shapely
 from scipy import optimize
 
 from transplanter.core.errors import GeometryError, SpecError, check_int, check_number
+from transplanter.core.forwarding import forward
 from transplanter.core.precision import rounded, significant
 from transplanter.core.tolerances import WIRE_EDM_TOLERANCE
 from transplanter.families.builder.making import Making, check_shop_files
@@ -53,6 +54,14 @@ from transplanter.shop import formats
 from transplanter.shop.export import json_bytes
 
 __all__ = ["IncompletePairStudy", "LOCKING_PLAY_DEG"]
+
+#: names this module gave before issue 41 moved them to modules of their own, still found here
+__getattr__ = forward(
+    __name__,
+    {
+        "PHASE_GRID": "transplanter.families.pairs.incomplete_proof",
+    },
+)
 
 #: the locking play a study holds its dwells and transitions to unless told, deg of driven turn (in
 #: all): what the locks and the relieved end teeth of the examples keep (0.5-1.5 deg at modules 2-3)
