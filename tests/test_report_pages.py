@@ -236,6 +236,25 @@ def test_one_unit_per_column_never_empty_where_a_quantity_has_one_never_in_a_val
     assert not [v for v in values if UNIT_IN_VALUE.search(v)] and not [n for n in names if UNIT_IN_NAME.search(n)]
 
 
+def test_quantities_of_different_units_one_per_place_get_a_row_or_column_each():
+    """Found by an independent judge on seed 002's page: a pose tolerance (position mm, attitude
+    deg) in one cell with no unit, the synthesis poses (x mm, y mm, angle deg) likewise, and the
+    feasible region's boxes and extra links' points with empty unit cells."""
+    results = {"poses": [{"pose": 1, "tip_off_mm": 0.5, "tolerance": [1.1, 0.5]}], "tolerance": [1.1, 0.5]}
+    parameters = {
+        "poses": [[124.03, 86.22, 230.0], [-33.07, -96.4, 120.0]],
+        "feasible_boxes": {"centre_x": [-60.0, 25.0], "y_range": [-100.0, 100.0]},
+        "extra_link2": [[92.1, 48.6], [216.4, 75.7]],
+    }
+    rec = {"kind": "synthesis", "files": {}, "results": results, "parameters": parameters}
+    page = _Page(family_report(_manifest({"part": rec})).decode())
+    units = page.units()
+    expected = {"position tolerance": "mm", "attitude tolerance": "deg", "centre x": "mm", "extra link2": "mm"}
+    assert {q: units.get(q) for q in expected} == {q: {u} for q, u in expected.items()}
+    headers = [c[1] for t in page.tables if t["head"] for c in t["rows"][0]]
+    assert {"x (mm)", "y (mm)", "angle (deg)", "position tolerance (mm)", "attitude tolerance (deg)"} <= set(headers)
+
+
 def test_every_figure_opens_full_size_on_a_click():
     rec = {"kind": "arm", "files": {"a.path.png": "0", "a.path.svg": "0", "m.animation.gif": "0"}, "results": {}}
     page = _Page(family_report(_manifest({"a": rec})).decode())

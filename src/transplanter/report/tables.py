@@ -13,6 +13,7 @@ import html
 
 __all__ = [
     "NAMED_UNITS",
+    "POSITIONAL",
     "OPEN_ROWS",
     "ROUND_OFF",
     "UNITS",
@@ -63,6 +64,13 @@ NAMED_UNITS = {
     "feasible_boxes": "mm",
     "extra_link2": "mm",
     "extra_link3": "mm",
+}
+#: keys recorded as a list of quantities of different units, one per place: shown as one row (or
+#: column) each, named with its unit — seed 002's machine states its pose tolerance as (position mm,
+#: attitude deg), its synthesis each pose as (x mm, y mm, angle deg)
+POSITIONAL = {
+    "tolerance": (("position tolerance", "mm"), ("attitude tolerance", "deg")),
+    "poses": (("x", "mm"), ("y", "mm"), ("angle", "deg")),
 }
 #: keys that are the same quantity as a key recorded with its unit elsewhere in the record
 _SAME_AS = {"follower_stroke": "stroke"}
@@ -121,6 +129,15 @@ def value(v) -> str:
     if isinstance(v, dict):
         return "; ".join(f"{k.replace('_', ' ')} {value(x)}" for k, x in sorted(v.items()))
     return number(v)
+
+
+def _positional(key: str, v) -> bool:
+    """``v`` is ``key``'s list of quantities one per place (:data:`POSITIONAL`), or a list of them."""
+    n = len(POSITIONAL.get(key, ()))
+    if not n or not isinstance(v, list) or not v:
+        return False
+    rows = v if all(isinstance(x, list) for x in v) else [v]
+    return all(len(r) == n and all(_numeric(x) for x in r) for r in rows)
 
 
 def _inline(v: dict) -> bool:
@@ -224,6 +241,9 @@ class Section:
             v = record[key]
             if key in compared or (key.endswith("_unit") and key[:-5] in record):
                 continue
+            if _positional(key, v):  # one quantity a place: a row each, or a table of them
+                self._positional(prefix, key, v)
+                continue
             name, own = label(key, "", self.named)
             if isinstance(record.get(f"{key}_unit"), str):
                 own = unit_text(record[f"{key}_unit"])
@@ -249,6 +269,16 @@ class Section:
             else:
                 self.rows.append((full, value(v), u))
         return self
+
+    def _positional(self, prefix: str, key: str, v: list) -> None:
+        places = POSITIONAL[key]
+        full = f"{prefix} › {key.replace('_', ' ')}" if prefix else key.replace("_", " ")
+        if all(_numeric(x) for x in v):
+            for (name, unit), x in zip(places, v, strict=True):
+                self.rows.append((f"{prefix} › {name}" if prefix else name, number(float(x)), unit))
+            return
+        rows = [[str(k + 1), *(number(float(x)) for x in row)] for k, row in enumerate(v)]
+        self.tables.append((full, _header_table(["#", *(f"{n} ({u})" for n, u in places)], rows)))
 
     def _flat(self, record: dict, unit: str = "") -> Section:
         return Section(self.named, cells=True).add("", record, unit)
