@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import ast
 import contextlib
+import importlib.util
 import io
 import re
 from pathlib import Path
@@ -20,29 +21,27 @@ import mkdocs_gen_files
 
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = ROOT / "src" / "transplanter"
-#: the stations, lowest first (as ``tests/test_layout.py`` orders them)
-STATIONS = (
-    "core",
-    "geometry",
-    "design",
-    "shop",
-    "proof",
-    "machine",
-    "report",
-    "families.builder",
-    "families.pairs",
-    "families.mechanisms",
-    "families.machines",
-    "families",
-    "app",
-)
+
+
+def _layout_graph():
+    """``tests/layout_graph.py``, loaded by its path: the stations and the import reader the layout
+    test holds the package to (one statement of each, not a copy here)."""
+    spec = importlib.util.spec_from_file_location("layout_graph", ROOT / "tests" / "layout_graph.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+GRAPH = _layout_graph()
+#: the stations, lowest first (the layout test's layers; the package's own files left out)
+STATIONS = tuple(e for layer in GRAPH.LAYERS for e in layer if not e.startswith("__"))
 
 
 def modules() -> dict[str, Path]:
     """Every public module, by its dotted name below ``transplanter`` (a package by its own name)."""
     found = {}
-    for path in sorted(PACKAGE.rglob("*.py")):
-        parts = path.relative_to(PACKAGE).with_suffix("").parts
+    for name, path in GRAPH.MODULES.items():
+        parts = tuple(name.split("."))
         if parts[-1] == "__init__":
             parts = parts[:-1]
         if not parts or any(p.startswith("_") for p in parts):
@@ -56,25 +55,10 @@ def station(name: str) -> str:
 
 
 def imports(name: str, path: Path, known: dict[str, Path]) -> set[str]:
-    """The modules of the package that ``name`` imports (dotted below ``transplanter``)."""
-    found = set()
-    package = name if path.name == "__init__.py" else name.rpartition(".")[0]
-    for node in ast.walk(ast.parse(path.read_text())):
-        if isinstance(node, ast.Import):
-            targets = [a.name.removeprefix("transplanter.") for a in node.names if a.name.startswith("transplanter.")]
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package.split(".")[: len(package.split(".")) - node.level + 1] if package else []
-                module = ".".join([*base, *([node.module] if node.module else [])])
-            elif (node.module or "").startswith("transplanter."):
-                module = node.module.removeprefix("transplanter.")
-            else:
-                continue
-            targets = [f"{module}.{a.name}" if f"{module}.{a.name}" in known else module for a in node.names]
-        else:
-            continue
-        found |= {t for t in targets if t in known and t != name}
-    return found
+    """The modules of the package that ``name`` imports (dotted below ``transplanter``), as the
+    layout test reads them."""
+    key = f"{name}.__init__" if path.name == "__init__.py" else name
+    return {t for t in GRAPH.imports(key, path)[0] if t in known and t != name}
 
 
 def summary(path: Path) -> str:

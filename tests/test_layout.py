@@ -6,29 +6,11 @@ the gear study knows no paper; the maths layer free of adapters (issue 28, ``../
 from __future__ import annotations
 
 import ast
-from pathlib import Path
 
 import pytest
 
-SRC = Path(__file__).resolve().parents[1] / "src" / "transplanter"
+from layout_graph import LAYERS, MODULES, SRC, imports
 
-#: the stations, lowest first: a module imports only from its own station or one below it (the
-#: package ``__init__`` docstrings say the same; docs/layout.md draws it). An entry names a package
-#: (every module under it) or a module; the longest entry that contains a module is its layer.
-LAYERS = (
-    ("core",),
-    ("geometry",),
-    ("design",),
-    ("shop",),
-    ("proof",),
-    ("machine",),
-    ("report",),
-    ("families.builder",),
-    ("families.pairs", "families.mechanisms"),
-    ("families.machines",),
-    ("families",),
-    ("app", "__init__", "__main__"),
-)
 #: the maths: numpy and scipy only, no geometry kernel, no file format (ezdxf keeps its math/ so)
 MATHS = (
     "design.linkage",
@@ -50,43 +32,7 @@ MAX_TOP_ENTRIES = 12
 MAX_LINES = 500
 
 
-def _modules() -> dict[str, Path]:
-    return {
-        ".".join(p.relative_to(SRC).with_suffix("").parts): p
-        for p in sorted(SRC.rglob("*.py"))
-        if "egg-info" not in str(p)
-    }
-
-
-MODULES = _modules()
-
-
-def _imports(name: str, path: Path) -> tuple[set[str], set[str]]:
-    """(project modules, outside top-level packages) that ``name`` imports."""
-    tree = ast.parse(path.read_text())
-    inner, outer = set(), set()
-    package = name.rsplit(".", 1)[0] if "." in name and not path.name == "__init__.py" else name
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            for a in node.names:
-                (inner if a.name.startswith("transplanter") else outer).add(a.name)
-        elif isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = package.split(".")[: len(package.split(".")) - node.level + 1]
-                mod = ".".join(["transplanter", *base, *([node.module] if node.module else [])])
-            else:
-                mod = node.module or ""
-            if not mod.startswith("transplanter"):
-                outer.add(mod)
-                continue
-            for a in node.names:  # `from transplanter import dxf` imports the module dxf
-                sub = f"{mod}.{a.name}"
-                inner.add(sub if sub.removeprefix("transplanter.") in MODULES else mod)
-    inner = {m.removeprefix("transplanter.").removeprefix("transplanter") for m in inner}
-    return {m for m in inner if m}, {m.split(".")[0] for m in outer}
-
-
-GRAPH = {name: _imports(name, path) for name, path in MODULES.items()}
+GRAPH = {name: imports(name, path) for name, path in MODULES.items()}
 
 
 def _within(name: str, entry: str) -> bool:
