@@ -20,7 +20,6 @@ from pathlib import Path
 import mkdocs_gen_files
 
 ROOT = Path(__file__).resolve().parent.parent
-PACKAGE = ROOT / "src" / "transplanter"
 
 
 def _layout_graph():

@@ -11,24 +11,30 @@ section is written to ``reference/SUMMARY.md`` for mkdocs-literate-nav.
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 
 import mkdocs_gen_files
 
 ROOT = Path(__file__).resolve().parent.parent
 SRC = ROOT / "src"
-PACKAGE = SRC / "transplanter"
+
+
+def _layout_graph():
+    """``tests/layout_graph.py``, loaded by its path: the package's modules as the layout test reads them."""
+    spec = importlib.util.spec_from_file_location("layout_graph", ROOT / "tests" / "layout_graph.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def public_modules() -> list[tuple[str, ...]]:
     """Dotted parts of every public module and package, sorted so a package precedes its modules."""
     found = []
-    for path in sorted(PACKAGE.rglob("*.py")):
-        parts = path.relative_to(SRC).with_suffix("").parts
+    for name in _layout_graph().MODULES:
+        parts = ("transplanter", *name.split("."))
         if parts[-1] == "__init__":
             parts = parts[:-1]
-        elif parts[-1].startswith("_"):
-            continue
         if any(p.startswith("_") for p in parts):
             continue
         found.append(parts)
