@@ -565,7 +565,7 @@ def test_set_passes_numbers_to_problem_and_spread_seeds_around_x0(tmp_path, caps
     assert cli.main([*args, "--write"]) == 0
     result = json.loads(capsys.readouterr().out)
     assert result["problem"] == "bowl at 1" and abs(result["parameters"]["x"] - 1.0) < 0.05
-    assert "BEST_1 = (\n" in script.read_text()
+    assert "BEST_1 = (0.0, 0.0)" not in script.read_text() and "START = (0.9, 0.9)" in script.read_text()
     for bad, said in (("target", "NAME=NUMBER"), ("target=abc", "a number"), ("size=2", "does not take it")):
         assert cli.main(["optimise", str(script), "--maxiter", "1", "--set", bad]) == 2
         assert said in capsys.readouterr().err
@@ -632,4 +632,9 @@ def test_only_what_changed_is_rebuilt_and_the_folder_equals_a_full_rebuild(tmp_p
     (folder / "b.txt").write_text("tampered\n")  # a kept part whose file changed is rebuilt
     assert cli.main(["build", str(script), "-o", str(out)]) == 0
     record = json.loads((out / ".plates.build.json").read_text())
-    assert record["rebuilt"] == {"b": "its files changed"} and (folder / "b.txt").read_text() == "16.000000\n"
+    assert (
+        record["rebuilt"]
+        == record["unverified"]
+        == {"b": "its files do not verify: b.txt: changed since the build (SHA-256 differs)"}
+    )
+    assert (folder / "b.txt").read_text() == "16.000000\n"

@@ -194,24 +194,24 @@ SIZES = [
             "--teeth",
             "24",
         ),
-        "give two of teeth, module and centre distance",
+        "give two of --teeth, --module and --centre-distance",
     ),
     (("--teeth", "24", "--module", "1.5", "--centre-distance", "40"), "give two of"),
-    (("--module", "1.5", "--centre-distance", "0"), "centre distance"),
-    (("--module", "1.5", "--centre-distance", "-40"), "centre distance"),
+    (("--module", "1.5", "--centre-distance", "0"), "--centre-distance = 0.0"),
+    (("--module", "1.5", "--centre-distance", "-40"), "--centre-distance = -40.0"),
     (("--teeth", "24", "--module", "1.5", "--width", "0"), "width"),
     (("--teeth", "24", "--module", "1.5", "--width", "nan"), "width"),
     (("--teeth", "24", "--module", "1.5", "--width", "1e9"), "width"),
-    (("--teeth", "24", "--module", "1.5", "--width", "1e-9"), "face width = 1e-09"),
+    (("--teeth", "24", "--module", "1.5", "--width", "1e-9"), "--width = 1e-09"),
     (("--teeth", "24", "--module", "1.5", "--backlash", "-0.1"), "backlash"),
     (("--teeth", "24", "--module", "1.5", "--backlash", "nan"), "backlash"),
-    (("--teeth", "24", "--module", "1.5", "--cutter-teeth", "3"), "cutter_teeth"),
-    (("--teeth", "24", "--module", "1.5", "--cutter-teeth", "100000"), "cutter_teeth"),
-    (("--teeth", "24", "--module", "1.5", "--driven-lobes", "3"), "driven_lobes is for named curves"),
+    (("--teeth", "24", "--module", "1.5", "--cutter-teeth", "3"), "--cutter-teeth = 3"),
+    (("--teeth", "24", "--module", "1.5", "--cutter-teeth", "100000"), "--cutter-teeth = 100000"),
+    (("--teeth", "24", "--module", "1.5", "--driven-lobes", "3"), "--driven-lobes is for named curves"),
     (("--teeth", "24", "--module", "1.5", "--ring", "both"), "invalid choice"),
-    (("--teeth", "24", "--module", "1.5", "--rack", "--cutter-teeth", "12"), "either rack or cutter_teeth"),
+    (("--teeth", "24", "--module", "1.5", "--rack", "--cutter-teeth", "12"), "either --rack or --cutter-teeth"),
     (("--teeth", "240000", "--module", "1.5"), "teeth = 240000"),
-    (("--module", "0.01", "--centre-distance", "9000"), "teeth = "),
+    (("--module", "0.05", "--centre-distance", "9000"), "make gears of"),
 ]
 
 
@@ -521,9 +521,10 @@ def test_a_bug_is_said_as_one_with_its_log(monkeypatch, capsys, tmp_path):
     import tempfile
 
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
+    monkeypatch.setenv("XDG_STATE_HOME", str(tmp_path / "state"))  # the log's private folder (issue 43)
     monkeypatch.setattr(cli, "_cmd_check", lambda args: {}["no such key"])
-    assert cli.main(["check", str(tmp_path)]) == 1
+    assert cli.main(["check", str(tmp_path / "checked")]) == 1
     err = capsys.readouterr().err
     assert "transplanter: internal error — please report it: KeyError" in err and "Traceback" not in err
-    (log,) = tmp_path.glob("transplanter-internal-error-*.log")
+    (log,) = tmp_path.glob("state/transplanter/internal-error-*.log")
     assert "Traceback" in log.read_text() and "no such key" in log.read_text()

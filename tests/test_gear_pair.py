@@ -169,7 +169,7 @@ def test_a_bad_transmission_names_the_problem(spec, message):
 
 def test_the_cli_refuses_bad_input_with_exit_2_and_writes_nothing(tmp_path, capsys):
     assert cli.main(["pair", "phi - 0.08*sin(2*phi)", "--teeth", "24", "-o", str(tmp_path)]) == 2
-    assert "give two of teeth, module and centre distance" in capsys.readouterr().err
+    assert "give two of --teeth, --module and --centre-distance" in capsys.readouterr().err
     assert cli.main(["pair", "phi - 0.08*sin(2*phi)", "--teeth", "25", "--module", "1.5", "-o", str(tmp_path)]) == 2
     assert "multiple of the driver's 2 lobes" in capsys.readouterr().err
     assert list(tmp_path.iterdir()) == []

@@ -8,6 +8,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from transplanter.core.text import shown
+
 __all__ = ["run"]
 
 
@@ -19,17 +21,18 @@ def run(args: argparse.Namespace) -> int:
     fam = load_family(args.script, args.timeout)
     tables = [(study, table) for study in fam.parts for table in study.tables()]
     if not tables:
-        print(f"{args.script}: family {fam.name!r} has no study with a table to analyse", file=sys.stderr)
+        print(shown(f"{args.script}: family {fam.name!r} has no study with a table to analyse"), file=sys.stderr)
         return 2
     for _, table in tables:
         published = any(pub is not None for *_, pub in table.rows)
-        print(f"\n{fam.name} / {table.title}")
+        print()
+        print(shown(f"{fam.name} / {table.title}"))
         width = max(34, *(len(label) for label, *_ in table.rows))
         if published:
             print(f"  {'quantity':{width}s} {'value':>12s} {'published':>10s}")
         for label, value, unit, pub in table.rows:
             ref = (" " * 10 if pub is None else f"{pub:10.2f}") + " " if published else ""
-            print(f"  {label:{width}s} {value:12.4f} {ref}{unit}")
+            print(shown(f"  {label:{width}s} {value:12.4f} {ref}{unit}"))
     if args.plots:
         for study in fam.parts:
             for fname, data in study.analysis_files().items():

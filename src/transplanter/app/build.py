@@ -1,5 +1,7 @@
 """``transplanter build``: part scripts built into their family folders, a line per part as it is
-done and a summary with the reports (:func:`transplanter.families.build_families`).
+done and a summary with the reports (:func:`transplanter.families.build_families`); a line for each
+part that was not carried forward from the last build because something of it did not verify
+(its file, its record, the manifest's seal), saying what.
 """
 
 from __future__ import annotations
@@ -9,6 +11,7 @@ import sys
 from pathlib import Path
 
 from transplanter.app.options import default_jobs
+from transplanter.core.text import shown
 
 __all__ = ["run"]
 
@@ -21,7 +24,7 @@ def run(args: argparse.Namespace) -> int:
 
     scripts = [Path(s) for s in args.scripts] or discover(args.parts)
     if not scripts:
-        print(f"no part scripts found in {args.parts}", file=sys.stderr)
+        print(shown(f"no part scripts found in {args.parts}"), file=sys.stderr)
         return 2
     start = time.perf_counter()
     families = [load_family(s, args.timeout) for s in scripts]
@@ -41,15 +44,17 @@ def run(args: argparse.Namespace) -> int:
     kept = sum(len(m.get("build", {}).get("kept", ())) for m in manifests)
     for manifest in manifests:
         name = manifest["family"]
-        print(f"{name}: {'ok' if manifest['ok'] else 'FAILED'} -> {Path(args.output) / name}")
+        print(shown(f"{name}: {'ok' if manifest['ok'] else 'FAILED'} -> {Path(args.output) / name}"))
+        for part, why in manifest.get("build", {}).get("unverified", {}).items():  # a line each: not carried forward
+            print(shown(f"  rebuilt {name}/{part}: {why}"))
         for part, rec in manifest["parts"].items():
             if "error" in rec:
                 failed += 1
-                print(f"  error: {name}/{part}: {rec['error']}", file=sys.stderr)
+                print(shown(f"  error: {name}/{part}: {rec['error']}"), file=sys.stderr)
             elif "shop_files" in rec.get("results", {}):
                 withheld += 1
         ok = ok and manifest["ok"]
-    reports = ", ".join(str(Path(args.output) / m["family"] / "report.html") for m in manifests)
+    reports = shown(", ".join(str(Path(args.output) / m["family"] / "report.html") for m in manifests))
     print(
         f"built {total - failed} of {total} parts in {len(manifests)} "
         f"famil{'y' if len(manifests) == 1 else 'ies'} in {time.perf_counter() - start:.1f} s "

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from transplanter.app.options import default_jobs
 from transplanter.app.proof_lines import fmt_um, made_line, mesh_line, phases_line
+from transplanter.core.text import shown
 
 __all__ = ["run"]
 
@@ -23,15 +24,18 @@ def run(args: argparse.Namespace) -> int:
     for folder in map(Path, args.folders or ["exports"]):
         if folder.is_symlink():
             print(
-                f"transplanter: error: {folder} is a symbolic link: a checked folder is not followed", file=sys.stderr
+                shown(f"transplanter: error: {folder} is a symbolic link: a checked folder is not followed"),
+                file=sys.stderr,
             )
             return 2
         if folder.is_dir() and not (folder / "manifest.json").exists():  # a folder of families
             inside = sorted(p for p in folder.iterdir() if not p.is_symlink() and (p / "manifest.json").is_file())
             if not inside:
                 print(
-                    f"transplanter: error: {folder} is not a built family folder (no manifest.json), "
-                    "nor a folder of them",
+                    shown(
+                        f"transplanter: error: {folder} is not a built family folder (no manifest.json), "
+                        "nor a folder of them"
+                    ),
                     file=sys.stderr,
                 )
                 return 2
@@ -44,22 +48,22 @@ def run(args: argparse.Namespace) -> int:
     )
     for folder, rep in zip(folders, reports, strict=True):
         design = f", design from {rep['script']}" if rep["script"] else ""
-        print(f"{rep['family']}  ({folder}{design})")
+        print(shown(f"{rep['family']}  ({folder}{design})"))
         if not rep["script_run"]:
             print(
                 "  files and digests only: no code from the folder was run (--run-script re-runs the proofs with "
                 "the part script, if its SHA-256 is the manifest's)"
             )
         for fname, problem in sorted(rep["files"].items()):
-            print(f"  file {fname}: {problem}")
+            print(shown(f"  file {fname}: {problem}"))
         for name, part in rep["parts"].items():
             res = part["results"]
             if res.get("shop_files_reread"):  # parts without shop files: nothing to say
                 n = res["shop_files_reread"]
-                print(f"  {name}: {n} shop file{'s' if n != 1 else ''} re-read (DXF, STL)")
+                print(shown(f"  {name}: {n} shop file{'s' if n != 1 else ''} re-read (DXF, STL)"))
             if "data_files_reproduced" in res:
                 n = res["data_files_reproduced"]
-                print(f"  {name}: {n} data file{'s' if n != 1 else ''} reproduced by the script")
+                print(shown(f"  {name}: {n} data file{'s' if n != 1 else ''} reproduced by the script"))
             for source, r in sorted((k, v) for k, v in res.items() if isinstance(v, dict)):
                 if "error" in r:  # an unreadable file: reported with the problems below
                     continue
@@ -81,12 +85,12 @@ def run(args: argparse.Namespace) -> int:
                     line = f"tip path of the four-bar rebuilt from the plates: max deviation {dev}"
                 else:  # the made files re-read: STEP solids, 3MF assemblies
                     for fname, f in sorted(r.items()):
-                        print(f"  {name} [{fname}]: {made_line(f)}")
+                        print(shown(f"  {name} [{fname}]: {made_line(f)}"))
                     continue
-                print(f"  {name} [{source}]: {line}")
+                print(shown(f"  {name} [{source}]: {line}"))
             tag = "finding (expected)" if part["expected"] else "PROBLEM"
             for p in part["problems"]:
-                print(f"  {name}: {tag}: {p}")
+                print(shown(f"  {name}: {tag}: {p}"))
         print(f"  {'ok' if rep['ok'] else 'FAILED'}")
         ok = ok and rep["ok"]
     return 0 if ok else 1

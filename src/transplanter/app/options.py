@@ -11,7 +11,7 @@ import os
 from transplanter.core import inputs
 from transplanter.core.errors import TransplanterError
 
-__all__ = ["PAIR_VALUES", "default_jobs", "expression_last", "per_gear", "timeout_seconds"]
+__all__ = ["PAIR_FLAGS", "PAIR_VALUES", "default_jobs", "expression_last", "integer_in", "per_gear", "timeout_seconds"]
 
 
 def default_jobs() -> int:
@@ -34,6 +34,25 @@ def timeout_seconds(text: str) -> float:
         raise argparse.ArgumentTypeError(str(exc)) from exc
 
 
+def integer_in(option: str, low: int, high: int):
+    """An option's type: an integer in ``[low, high]``, checked when the command line is parsed (the
+    error names the option, the value and the limits), e.g. ``integer_in("--seed", 0, 2**32 - 1)``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip())
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{option} = {text!r} is not an integer") from None
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(
+                f"{option} = {value} is out of range: must be an integer from {low} to {high}"
+            )
+        return value
+
+    parse.__name__ = option.lstrip("-")  # argparse names the type in "invalid <name> value"
+    return parse
+
+
 def per_gear(text: str) -> float | tuple[float, float]:
     """``A`` or ``A,B`` (driver, driven) as numbers; the ranges are the study's to check."""
     try:
@@ -44,6 +63,32 @@ def per_gear(text: str) -> float | tuple[float, float]:
         raise argparse.ArgumentTypeError(f"{text!r}: give one number, or two as driver,driven")
     return values[0] if len(values) == 1 else (values[0], values[1])
 
+
+#: how ``pair``'s errors name its options: as typed on the command line
+#: (:func:`transplanter.families.pairs.pair_options.check_options` names them so)
+PAIR_FLAGS = {
+    "spec": "the transmission",
+    "internal": "--internal",
+    "teeth": "--teeth",
+    "module": "--module",
+    "centre_distance": "--centre-distance",
+    "driven_lobes": "--driven-lobes",
+    "ring": "--ring",
+    "backlash": "--backlash",
+    "cutter_teeth": "--cutter-teeth",
+    "rack": "--rack",
+    "width": "--width",
+    "name": "--name",
+    "scale_to_close": "--scale-to-close",
+    "addendum": "--addendum",
+    "shift": "--shift",
+    "trim_ring_tips": "--no-trim-ring-tips",
+    "allow_undercut": "--allow-undercut",
+    "lock_clearance": "--lock-clearance",
+    "lock_depth": "--lock-depth",
+    "locking_play": "--locking-play",
+    "out": "-o/--output",
+}
 
 #: ``pair``'s options that take a value (the next argument is that value, whatever it looks like)
 PAIR_VALUES = {"--teeth", "--module", "--centre-distance", "--ring", "--driven-lobes", "--backlash"}

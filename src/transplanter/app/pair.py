@@ -9,7 +9,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from transplanter.app.options import PAIR_FLAGS
 from transplanter.app.proof_lines import mesh_line, phases_line
+from transplanter.core.text import shown
 
 __all__ = ["run"]
 
@@ -22,13 +24,15 @@ def run(args: argparse.Namespace) -> int:
     names += ("scale_to_close", "addendum", "shift", "trim_ring_tips", "allow_undercut")
     names += ("lock_clearance", "lock_depth", "locking_play")
     options = {k: getattr(args, k) for k in (*names, "rack", "width", "name")}
-    options = {k: v for k, v in options.items() if v is not None or k != "locking_play"}
-    manifest = gear_pair(args.transmission, args.output, **options)
+    options = {k: v for k, v in options.items() if v is not None or k not in ("locking_play", "ring")}
+    # every option checked before anything is written, each error naming it as typed (--centre-distance)
+    manifest = gear_pair(args.transmission, args.output, names=PAIR_FLAGS, **options)
     folder = Path(args.output) / manifest["family"]
-    print(manifest["description"])
+    print(shown(manifest["description"]))
     rec = manifest["parts"][args.name]
     if "error" in rec:
-        print(f"FAILED -> {folder}\n  error: {rec['error']}", file=sys.stderr)
+        print(shown(f"FAILED -> {folder}"), file=sys.stderr)
+        print(shown(f"  error: {rec['error']}"), file=sys.stderr)
         return 1
     if rec.get("kind") == "incomplete_pair":
         return _print_incomplete(rec, folder)
@@ -40,8 +44,8 @@ def run(args: argparse.Namespace) -> int:
     for source, r in sorted((k, v) for k, v in rec["results"]["meshing"].items() if isinstance(v, dict)):
         print(f"  meshing [{source}]: {mesh_line(r)}")
     shop = [f for f in rec["files"] if f.endswith((".dxf", ".stl", ".step", ".3mf"))]
-    print(f"  shop files: {', '.join(shop)}")
-    print(f"ok -> {folder} (report.html)")
+    print(shown(f"  shop files: {', '.join(shop)}"))
+    print(shown(f"ok -> {folder} (report.html)"))
     return 0
 
 
@@ -76,6 +80,6 @@ def _print_incomplete(rec: dict, folder: Path) -> int:
     for source, r in sorted((k, v) for k, v in res["meshing"].items() if isinstance(v, dict)):
         print(f"  meshing [{source}]: {phases_line(r)}")
     shop = [f for f in rec["files"] if f.endswith((".dxf", ".stl", ".step", ".3mf"))]
-    print(f"  shop files: {', '.join(shop)}")
-    print(f"ok -> {folder} (report.html)")
+    print(shown(f"  shop files: {', '.join(shop)}"))
+    print(shown(f"ok -> {folder} (report.html)"))
     return 0

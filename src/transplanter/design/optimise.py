@@ -25,17 +25,39 @@ Examples
 from __future__ import annotations
 
 import math
+import re
 import time
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy import optimize
 
 from transplanter.core.errors import PartScriptError, SpecError, TransplanterError, check_int
 
-__all__ = ["Problem", "OptimisationResult", "optimise"]
+__all__ = [
+    "MAX_MAXITER",
+    "MAX_POPSIZE",
+    "MAX_SEED",
+    "MAX_WORKERS",
+    "SCHEDULER_TIMEOUT_S",
+    "Problem",
+    "OptimisationResult",
+    "misses",
+    "optimise",
+]
+
+#: the largest seed: numpy's legacy generator, which scipy seeds from it, takes 32 bits
+MAX_SEED = 2**32 - 1
+#: candidates per variable and generation: 1000 × 12 variables is 12 000 designs a generation,
+#: hours each for seed 004's model; more is a typo, not a search
+MAX_POPSIZE = 1000
+#: generations: seed 004's longest recorded search ran 150
+MAX_MAXITER = 100_000
+#: local evaluation processes (a LocalCluster): beyond the cores of any one machine
+MAX_WORKERS = 256
+#: seconds a Dask scheduler is given to connect, shake hands and say what it is
+SCHEDULER_TIMEOUT_S = 10.0
 
 
 @dataclass(frozen=True)
@@ -50,8 +72,10 @@ class Problem:
     x0: tuple[float, ...] | None = None
     #: variables that are choices (their integer part is what the model uses): shown as integers
     choices: tuple[str, ...] = ()
-    #: the best design's objectives in words, ``{objective: "value unit (margin ...)"}``, shown
-    #: with the progress (one evaluation per generation)
+    #: the best design's objectives in words, ``{objective: "value unit (margin M)"}``, shown
+    #: with the progress (one evaluation per generation); an entry whose text holds
+    #: ``(margin M)`` with M < 0 is an objective missed (:func:`misses`): ``--write`` records
+    #: such a design only with ``--write-infeasible``
     describe: Callable[[np.ndarray], dict[str, str]] | None = None
     #: the module-level name of the design vector in the file that defines ``problem()``
     #: (``OPTIMUM``): ``transplanter optimise --write`` records the optimum there
@@ -116,9 +140,84 @@ class OptimisationResult:
     history: tuple[float, ...] = field(repr=False)
 
 
+_MARGIN = re.compile(r"\(margin\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)")
+
+
+def misses(said: dict[str, str]) -> list[tuple[str, str, float]]:
+    """The objectives a design misses, from :attr:`Problem.describe`'s words: ``(objective, its
+    text — value, unit, margin —, margin)`` for each entry whose ``(margin M)`` is below 0.
+
+    >>> misses({"xi nutation": "30.28 deg (margin -0.282)", "i module": "3.5 mm (margin +0.1)"})
+    [('xi nutation', '30.28 deg (margin -0.282)', -0.282)]
+    """
+    out = []
+    for objective, text in said.items():
+        found = _MARGIN.search(str(text))
+        if found and float(found.group(1)) < 0:
+            out.append((str(objective), str(text), float(found.group(1))))
+    return out
+
+
+def _reach(address: str, timeout: float) -> None:
+    """SpecError unless a Dask scheduler at ``address`` connects, shakes hands and says it is one
+    within ``timeout`` s. dask's own connect timeout does not bound the handshake (a peer that
+    accepts and never answers holds it for ever), and a peer that answers garbage makes its reader
+    fail in any way (a frame of 3 EiB, a msgpack error): both are said here as the address's fault."""
+    import asyncio
+    import queue
+    import threading
+
+    from distributed.comm import connect
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        scheme, where = parse_address(address)
+        if scheme in ("tcp", "tls", "ws", "wss") and not 0 < parse_host_port(where)[1] < 65536:
+            raise ValueError(f"port {parse_host_port(where)[1]} is not 1..65535")
+    except ValueError as exc:
+        raise SpecError(f"scheduler = {address!r}: not an address like 'tcp://host:8786' ({exc})") from None
+
+    async def ask():
+        comm = await connect(address, timeout=timeout)
+        try:
+            await comm.write({"op": "identity", "reply": True})
+            return await comm.read()
+        finally:
+            comm.abort()
+
+    answer: queue.Queue = queue.Queue()
+
+    def probe() -> None:  # its own loop and thread: the caller may be inside an event loop
+        try:
+            answer.put((True, asyncio.run(asyncio.wait_for(ask(), timeout))))
+        except BaseException as exc:  # a peer's bytes can fail the reader in any way; said below
+            answer.put((False, exc))
+
+    threading.Thread(target=probe, name="transplanter-scheduler-probe", daemon=True).start()
+    try:
+        ok, reply = answer.get(timeout=timeout + 1.0)
+    except queue.Empty:  # stuck outside the loop (a name lookup): left behind, a daemon thread
+        ok, reply = False, TimeoutError()
+    if not ok:
+        if isinstance(reply, TimeoutError | asyncio.TimeoutError):
+            why = f"no Dask scheduler answered within {timeout:g} s"
+        elif isinstance(reply, KeyboardInterrupt):
+            raise reply
+        elif isinstance(reply, OSError):  # refused, reset, closed, no such host
+            why = f"cannot reach it ({type(reply).__name__}: {reply})"
+        else:  # its bytes, not ours: the reader's own words (a frame of 3 EiB to allocate) say nothing useful
+            why = "it is not a Dask scheduler: its reply does not decode as Dask's protocol"
+        raise SpecError(f"scheduler = {address!r}: {why}") from None
+    kind = reply.get("type") if isinstance(reply, dict) else None
+    if kind != "Scheduler":
+        said = repr(kind)[:80] if kind is not None else f"a {type(reply).__name__}"
+        raise SpecError(f"scheduler = {address!r}: it answered, but not as a Dask scheduler (it says {said})")
+
+
 @contextmanager
 def _evaluator(workers: int, scheduler: str | None):
-    """scipy's ``workers`` argument: 1 (serial), or a map over a dask.distributed client."""
+    """scipy's ``workers`` argument: 1 (serial), or a map over a dask.distributed client (a
+    scheduler's address is probed first, within :data:`SCHEDULER_TIMEOUT_S`: :func:`_reach`)."""
     if workers == 1 and scheduler is None:
         yield 1
         return
@@ -127,6 +226,8 @@ def _evaluator(workers: int, scheduler: str | None):
     except ImportError as exc:  # a declared dependency; only a broken install lacks it
         raise SpecError("parallel evaluation needs dask.distributed (pip install distributed)") from exc
     cluster = None
+    if scheduler is not None:
+        _reach(scheduler, SCHEDULER_TIMEOUT_S)
     try:
         if scheduler is None:
             cluster = LocalCluster(
@@ -134,8 +235,8 @@ def _evaluator(workers: int, scheduler: str | None):
             )
             client = Client(cluster)
         else:
-            client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError, ValueError, TypeError) as exc:  # unreachable, or not an address
+            client = Client(scheduler, timeout=f"{SCHEDULER_TIMEOUT_S:g}s")
+    except (OSError, TimeoutError, ValueError, TypeError, MemoryError) as exc:  # unreachable, not an address
         if cluster is not None:
             cluster.close()
         where = scheduler or f"{workers} local workers"
@@ -203,9 +304,14 @@ def optimise(
     the module docstring). ``updating`` ("immediate" or "deferred") overrides the scheme; a
     parallel run is always deferred.
     """
+    from scipy import optimize
+
     if updating not in (None, "immediate", "deferred"):
         raise SpecError.out_of_range("updating", updating, "'immediate' or 'deferred'")
-    workers = check_int("workers", workers, 1, 4096)
+    seed = check_int("seed", seed, 0, MAX_SEED)
+    maxiter = check_int("maxiter", maxiter, 1, MAX_MAXITER)
+    popsize = check_int("popsize", popsize, 1, MAX_POPSIZE)
+    workers = check_int("workers", workers, 1, MAX_WORKERS)
     if scheduler is not None and not isinstance(scheduler, str):
         raise SpecError(f"scheduler must be an address like 'tcp://host:8786', got {scheduler!r}")
     history: list[float] = []

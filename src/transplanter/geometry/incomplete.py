@@ -53,14 +53,21 @@ from transplanter.core.forwarding import forward
 from transplanter.geometry.cutter import Cutter
 from transplanter.geometry.pair_gate import per_gear
 from transplanter.geometry.pitch.intermittent import Dwell, IncompletePair, Motion
+from transplanter.geometry.sector_outline import CORNER_RADIUS_MM, GRID_MM, SLIVER_MM  # noqa: F401 - its constants
+from transplanter.geometry.sector_outline import largest as _largest
+from transplanter.geometry.sector_outline import made_of as _made_of
+from transplanter.geometry.sector_outline import one_piece as _one
+from transplanter.geometry.sector_outline import wire_cut as _wire_cut
 from transplanter.geometry.sweep import swept
 from transplanter.geometry.teeth import require_cutter
-from transplanter.geometry.toothed_sectors import _between, _edge_line, _radial, _sector, _turn
+from transplanter.geometry.toothed_sectors import _between, _edge_line, _layout, _radial, _sector, _turn
 
 __all__ = [
     "SectorGear",
     "Lock",
     "IncompleteGears",
+    "LockFitError",
+    "check_fit",
     "cut_incomplete",
     "LOCK_DEPTH",
     "INTERNAL_LOCK_SHORT_OF_TIPS",
@@ -93,14 +100,6 @@ LOCK_DEPTH = 0.3
 #: 0.3 m into the ring's tips, 3.2 at 1.0 m; 1.24 at 1.3 m, 1.19 at 1.6 m; at 1.8 m, the tips' own
 #: radius, the first tooth meets the ring tip on tip)
 INTERNAL_LOCK_SHORT_OF_TIPS = 0.3
-#: the inside-corner radius the gears are given where sectors meet locking arcs and where the
-#: sweep leaves corners: a 0.25 mm wire with its 0.02 mm spark gap, and a margin (mm)
-CORNER_RADIUS_MM = 0.16
-#: vertices closer than this to the outline through their neighbours are dropped after the wire's
-#: closing (mm): far below the chord tolerance, far above float round-off
-SLIVER_MM = 1e-6
-#: the grid the made outlines are snapped to, mm
-GRID_MM = 1e-7
 
 
 @dataclass(frozen=True, eq=False)
@@ -183,18 +182,112 @@ def _roll_angle(pair: IncompletePair, motion: Motion, distance: float, from_end:
     return float(phi[-1] - at) if from_end else float(at - phi[0])
 
 
-def _horns(a: float, radius: float, tip: float) -> tuple[float, float]:
+class LockFitError(GeometryError):
+    """A dwell's lock does not fit the law at this size: ``dwell`` (its index in the law's dwells)
+    and what does not fit (``reason``) — said before anything is cut, so the caller can name the
+    segment and the sizes the user gave."""
+
+    def __init__(self, dwell: int, reason: str) -> None:
+        self.dwell, self.reason = dwell, reason
+        super().__init__(f"the dwell {dwell + 1}'s lock: {reason}")
+
+
+def _horns(a: float, radius: float, tip: float, dwell: int = 0) -> tuple[float, float]:
     """Where the concave arc (``radius`` about the driver's axis, ``a`` from the driven's) meets the
     driven's tip circle ``tip``: the half-angle seen from the driver's axis from the line of
-    centres (rad, the lever of the lock) and seen from the driven's axis (rad)."""
+    centres (rad, the lever of the lock) and seen from the driven's axis (rad); :class:`LockFitError`
+    (naming ``dwell``) where they do not meet."""
     c1 = (a * a + radius * radius - tip * tip) / (2 * a * radius)
     c2 = (a * a + tip * tip - radius * radius) / (2 * a * tip)
     if not (-1 < c1 < 1 and -1 < c2 < 1):
-        raise GeometryError(
+        raise LockFitError(
+            dwell,
             f"the locking arc ({radius:.4g} mm about the driver's axis) does not cross the driven's tip circle "
-            f"({tip:.4g} mm, centres {a:.4g} mm apart): no concave arc can hold the driven there"
+            f"({tip:.4g} mm, centres {a:.4g} mm apart): no concave arc can hold the driven there",
         )
     return math.acos(c1), math.acos(c2)
+
+
+@dataclass(frozen=True, eq=False)
+class _Plan:
+    """What :func:`cut_incomplete` settles before it cuts: sizes, tool, locks, zones, arcs."""
+
+    pair: IncompletePair
+    tool: Cutter
+    backlash: float
+    addendum: tuple[float, float]
+    clearance: float
+    locks: tuple[Lock, ...]
+    zones: list
+    dwells: list
+
+
+def _plan(pair, cutter, backlash, addendum, lock_clearance, lock_depth) -> _Plan:
+    """The sizes checked and the locks placed (module docstring): :class:`LockFitError` naming the
+    dwell whose locking arc has no radius or does not cross the driven's tips."""
+    require_cutter(cutter)
+    if not isinstance(pair, IncompletePair):
+        raise SpecError(f"pair must be an IncompletePair, got {type(pair).__name__}")
+    m = cutter.module
+    backlash = check_number("backlash", backlash, 0.0, m, high_open=True, unit="mm")
+    add1, add2 = per_gear("addendum", addendum)
+    c = 0.4 * backlash if lock_clearance is None else lock_clearance
+    c = check_number("lock_clearance", c, 0.0, m, low_open=True, high_open=True, unit="mm")
+    depth = default_lock_depth(pair.mesh, (add1, add2)) if lock_depth is None else lock_depth
+    depth = check_number("lock_depth", depth, 0.0, add1 + add2, low_open=True, high_open=True, unit="modules")
+    a = pair.centre_distance
+    ext = pair.mesh == "external"
+    tool = replace(cutter, thickening=backlash / 4) if backlash else cutter
+    motions = pair.law.motions
+    dwells = _dwells(pair)
+    # the locks: the driver's arc reaches ``lock_depth`` into the driven's tips on the line of
+    # centres; its horns, where the concave arc meets the tips, set the lever that holds the driven
+    locks, zones, radii = [], [[0.0, 0.0] for _ in motions], []
+    for k, (dwell, before, after) in enumerate(dwells):
+        r2b = 0.5 * float(
+            pair.r2(np.radians([motions[before].end]), motion=motions[before])[0]
+            + pair.r2(np.radians([motions[after].start]), motion=motions[after])[0]
+        )
+        tip2 = r2b + add2 * m if ext else r2b - add2 * m
+        r_lock = (a - tip2 if ext else tip2 - a) + depth * m
+        if not r_lock > 0:
+            raise LockFitError(
+                k,
+                f"its locking arc, {depth:g} modules into the driven's tips (their radius {tip2:.4g} mm, centres "
+                f"{a:.4g} mm apart), would have a radius of {r_lock:.4g} mm, not > 0",
+            )
+        beta, alpha = _horns(a, r_lock + c, tip2, k)
+        lever = beta if ext else math.pi - beta
+        zone = alpha * r2b  # the lock's half-width, as roll on the driven
+        zones[before][1], zones[after][0] = zone, zone
+        play = math.degrees(c / (a * abs(math.sin(lever))))
+        locks.append(Lock((dwell.start, dwell.end), r_lock, c, math.degrees(lever), play))
+        radii.append(r_lock)
+    located = IncompletePair(pair.law, a, pair.mesh, tuple(radii))
+    return _Plan(located, tool, backlash, (add1, add2), c, tuple(locks), zones, dwells)
+
+
+def _driven_zone(module: float) -> tuple[float, float]:
+    """The roll (mm) at each end of a motion the driven's spaces leave to its closing bridge."""
+    return (0.25 * math.pi * module, 0.25 * math.pi * module)
+
+
+def check_fit(
+    pair: IncompletePair,
+    cutter: Cutter,
+    backlash: float,
+    *,
+    addendum: float | tuple[float, float] = 1.0,
+    lock_clearance: float | None = None,
+    lock_depth: float | None = None,
+) -> None:
+    """What :func:`cut_incomplete` finds before it cuts, without cutting (the same computations): the
+    sizes, each dwell's lock (:class:`LockFitError`), each motion's sector on both gears
+    (:class:`~transplanter.geometry.toothed_sectors.SectorFitError`: two spaces, room to close it)."""
+    plan = _plan(pair, cutter, backlash, addendum, lock_clearance, lock_depth)
+    for motion in plan.pair.law.motions:
+        _layout(plan.pair, plan.tool, motion, "driver", plan.addendum)
+        _layout(plan.pair, plan.tool, motion, "driven", plan.addendum, _driven_zone(plan.tool.module))
 
 
 def cut_incomplete(
@@ -219,42 +312,13 @@ def cut_incomplete(
     arc, and those the sweep leaves in the driven, are given it as the wire leaves them (the
     proof then judges the gears as cut).
     """
-    require_cutter(cutter)
-    if not isinstance(pair, IncompletePair):
-        raise SpecError(f"pair must be an IncompletePair, got {type(pair).__name__}")
+    plan = _plan(pair, cutter, backlash, addendum, lock_clearance, lock_depth)
+    pair, tool, backlash, (add1, add2), c = plan.pair, plan.tool, plan.backlash, plan.addendum, plan.clearance
+    locks, zones, dwells, radii = plan.locks, plan.zones, plan.dwells, plan.pair.lock_radii
     m = cutter.module
-    backlash = check_number("backlash", backlash, 0.0, m, high_open=True, unit="mm")
-    add1, add2 = per_gear("addendum", addendum)
-    c = 0.4 * backlash if lock_clearance is None else lock_clearance
-    c = check_number("lock_clearance", c, 0.0, m, low_open=True, high_open=True, unit="mm")
-    depth = default_lock_depth(pair.mesh, (add1, add2)) if lock_depth is None else lock_depth
-    depth = check_number("lock_depth", depth, 0.0, add1 + add2, low_open=True, high_open=True, unit="modules")
-    a = pair.centre_distance
     ext = pair.mesh == "external"
     sense = -1.0 if ext else 1.0  # the driven's body turns against ψ (external) or with it (a ring)
-    tool = replace(cutter, thickening=backlash / 4) if backlash else cutter
     motions = pair.law.motions
-    dwells = _dwells(pair)
-    # the locks: the driver's arc reaches ``lock_depth`` into the driven's tips on the line of
-    # centres; its horns, where the concave arc meets the tips, set the lever that holds the driven
-    locks, zones = [], [[0.0, 0.0] for _ in motions]
-    radii = []
-    for dwell, before, after in dwells:
-        r2b = 0.5 * float(
-            pair.r2(np.radians([motions[before].end]), motion=motions[before])[0]
-            + pair.r2(np.radians([motions[after].start]), motion=motions[after])[0]
-        )
-        tip2 = r2b + add2 * m if ext else r2b - add2 * m
-        r_lock = (a - tip2 if ext else tip2 - a) + depth * m
-        check_number("lock radius", r_lock, 0.0, low_open=True, unit="mm")
-        beta, alpha = _horns(a, r_lock + c, tip2)
-        lever = beta if ext else math.pi - beta
-        zone = alpha * r2b  # the lock's half-width, as roll on the driven
-        zones[before][1], zones[after][0] = zone, zone
-        play = math.degrees(c / (a * abs(math.sin(lever))))
-        locks.append(Lock((dwell.start, dwell.end), r_lock, c, math.degrees(lever), play))
-        radii.append(r_lock)
-    pair = IncompletePair(pair.law, a, pair.mesh, tuple(radii))
     # the driver: each sector between its outermost space centres, a locking sector over each dwell
     drv = [_sector(pair, tool, mo, "driver", (add1, add2)) for mo in motions]
     far = 2 * float(max(g.tip.bounds[2] for g in drv)) + 10 * m
@@ -298,8 +362,7 @@ def cut_incomplete(
         ),
     )
     # the driven: each motion's spaces off the lock zones, then what the driver sweeps through it
-    bridge = (0.25 * math.pi * m, 0.25 * math.pi * m)
-    drn = [_sector(pair, tool, mo, "driven", (add1, add2), bridge) for mo in motions]
+    drn = [_sector(pair, tool, mo, "driven", (add1, add2), _driven_zone(m)) for mo in motions]
     lobes = pair.law.turn_fraction
     turn = 2 * math.pi / lobes
     if len(motions) == 1:
@@ -351,8 +414,10 @@ def cut_incomplete(
         sweeps.append((sw, chi, zones[before][1] / r2b))
     sweep = shapely.union_all([sw for sw, _, _ in sweeps])
     n_body = _wire_cut(_largest(shapely.difference(pre, sweep), m), corner_radius)
-    if not isinstance(n_body, shapely.Polygon) or n_body.is_empty:
-        raise GeometryError("the driven gear falls apart where the driver sweeps through it at the dwells")
+    if not isinstance(n_body, shapely.Polygon) or n_body.is_empty:  # which dwell's sweep cuts it apart
+        cut = [d for (d, _, _), (sw, _, _) in zip(dwells, sweeps, strict=True) if not _one(pre, sw, m)]
+        at = ", ".join(f"{d.start:g}..{d.end:g}" for d in cut) or "all together"
+        raise GeometryError(f"the driven gear falls apart where the driver sweeps through it at the dwells ({at} deg)")
     for (dwell, _before, _after), (sw, chi, zone_half) in zip(dwells, sweeps, strict=True):
         relief.append(_relief(shapely.intersection(pre, sw), n_body, dwell, chi, zone_half, r_out, lobes))
     driven = SectorGear(
@@ -365,7 +430,7 @@ def cut_incomplete(
         np.vstack([s.points for s in drn]),
         (),
     )
-    return IncompleteGears(pair, driver, driven, tuple(locks), tuple(relief), backlash, tuple(map(tuple, zones)))
+    return IncompleteGears(pair, driver, driven, locks, tuple(relief), backlash, tuple(map(tuple, zones)))
 
 
 def default_lock_depth(mesh: str, addendum: tuple[float, float]) -> float:
@@ -373,37 +438,6 @@ def default_lock_depth(mesh: str, addendum: tuple[float, float]) -> float:
     ``LOCK_DEPTH`` for an external pair, the working depth less ``INTERNAL_LOCK_SHORT_OF_TIPS``
     for a planet in its ring."""
     return LOCK_DEPTH if mesh == "external" else addendum[0] + addendum[1] - INTERNAL_LOCK_SHORT_OF_TIPS
-
-
-def _made_of(body: shapely.Polygon) -> tuple[shapely.Polygon, shapely.Geometry]:
-    """(blank, cut) whose 3D difference is ``body``: its outer contour extruded, less its holes —
-    a ring's toothed hole cut from its rim disc. (A cut made as the blank less the body would
-    share the tip lands with the blank to a nanometre: slivers in the mesh.)"""
-    holes = [shapely.Polygon(r) for r in body.interiors]
-    return shapely.Polygon(body.exterior), (shapely.union_all(holes) if holes else shapely.Polygon())
-
-
-def _wire_cut(body, radius: float):
-    """``body`` as a wire of ``radius`` cuts it: inside corners tighter than the wire filled
-    (the morphological closing ``machining.wire_violations`` measures)."""
-    if radius <= 0 or not isinstance(body, shapely.Polygon):
-        return body
-    closed = body.buffer(radius, quad_segs=64).buffer(-radius, quad_segs=64)
-    if not isinstance(closed, shapely.Polygon) or closed.is_empty:
-        return body
-    # the offsets leave vertices nanometres apart, which a mesh writer would weld into slivers and
-    # a file's rounding could fold: dropped, and the rest snapped to a grid far below the chord
-    # tolerance (valid by construction; the CSV's nine decimals then hold it exactly)
-    snapped = shapely.set_precision(shapely.simplify(closed, SLIVER_MM), GRID_MM)
-    return snapped if isinstance(snapped, shapely.Polygon) else closed
-
-
-def _largest(body, module: float):
-    """The body without specks the sweep left (pieces below 1e-3 m²)."""
-    if isinstance(body, shapely.MultiPolygon):
-        keep = [g for g in body.geoms if g.area >= 1e-3 * module**2]
-        return keep[0] if len(keep) == 1 else shapely.MultiPolygon(keep)
-    return body
 
 
 def _relief(relieved, body, dwell, chi, half, r_out, lobes) -> dict:

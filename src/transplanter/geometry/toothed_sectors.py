@@ -14,13 +14,15 @@ locking arcs into the two gears.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 import shapely
+from scipy.linalg import LinAlgWarning
 from shapely import affinity
 
-from transplanter.core.errors import GeometryError
+from transplanter.core.errors import GeometryError, TransplanterError
 from transplanter.geometry.cutter import Cutter
 from transplanter.geometry.pitch.curve import PitchCurve
 from transplanter.geometry.pitch.intermittent import IncompletePair, Motion
@@ -28,7 +30,7 @@ from transplanter.geometry.pitch.periodic import PeriodicSpline
 from transplanter.geometry.sweep import turned
 from transplanter.geometry.teeth import generate
 
-__all__ = ["CURVE_SAMPLES_PER_DEG", "sector_pitches", "virtual_curve"]
+__all__ = ["CURVE_SAMPLES_PER_DEG", "SectorFitError", "sector_pitches", "virtual_curve"]
 
 #: samples per degree of a sector's true pitch curve in its virtual closed curve
 CURVE_SAMPLES_PER_DEG = 8
@@ -76,6 +78,29 @@ def _between(first: np.ndarray, last: np.ndarray, far: float) -> shapely.Polygon
 
 def _radial(a0: float, a1: float, far: float) -> shapely.Polygon:
     return shapely.Polygon(np.vstack([[0.0, 0.0], _span(a0, a1, far, tol=far * 1e-3)]))
+
+
+class SectorFitError(GeometryError):
+    """A motion's toothed sector does not fit the law at this size: ``motion`` (its index in the
+    law's motions), the gear (``role``) and what does not fit (``reason``) — said before anything
+    is cut, so the caller can name the segment and the sizes the user gave."""
+
+    def __init__(self, motion: int, role: str, reason: str) -> None:
+        self.motion, self.role, self.reason = motion, role, reason
+        super().__init__(f"the motion {motion + 1}'s sector on the {role}: {reason}")
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Where one motion's sector is cut on one gear: its virtual closed curve, the arc-length
+    positions of its tooth spaces, the seam's angle, and what :func:`teeth.generate` is told."""
+
+    curve: PitchCurve
+    spaces: np.ndarray
+    origin: float
+    internal: bool
+    teeth: int
+    lobes: int
 
 
 @dataclass(frozen=True)
@@ -135,13 +160,14 @@ def _tooth_centres(pair: IncompletePair, motion: Motion, cutter: Cutter, addendu
     return approach + pitch / 4 + pitch * np.arange(count)
 
 
-def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, addendum, zone=(0.0, 0.0)):
-    """The toothed sector of ``motion`` on the ``role`` gear: the driver's teeth phased by the
-    path of contact at the motion's ends (:func:`_tooth_centres`), the driven's spaces where they
-    meet them; ``zone`` (mm of roll at the motion's start and end) left to the closing bridge of
-    the driven's virtual curve."""
+def _layout(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, addendum, zone=(0.0, 0.0)) -> _Layout:
+    """Where ``motion``'s sector is cut on the ``role`` gear (:func:`_sector`), nothing cut yet:
+    :class:`SectorFitError` when it does not fit — fewer than two tooth spaces, a closing bridge
+    that is no pitch curve, or spaces spanning more than its virtual curve's perimeter less one
+    and a half pitches (the room :func:`teeth.generate` needs to close the sector)."""
     m = cutter.module
     pitch = math.pi * m
+    k_motion = pair.law.motions.index(motion)
     phi, u = pair.roll(motion, max(400, int((motion.end - motion.start) * CURVE_SAMPLES_PER_DEG)) + 1)
     r1, dr1 = pair.r1(phi, motion=motion), pair.r1(phi, 1, motion=motion)
     length = float(u[-1])
@@ -163,17 +189,34 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
         teeth = max(0, len(space_u) - 1)
         # a quarter pitch at each end left to the bridge, which smooths a jump of radius between motions
         keep = (u >= zone[0]) & (u <= length - zone[1])
-    if len(space_u) < 2:
-        raise GeometryError(
+    if len(space_u) < 2 or keep.sum() < 4:
+        raise SectorFitError(
+            k_motion,
+            role,
             f"the motion {motion.start:g}..{motion.end:g} deg rolls {length:.4g} mm: too short for a toothed sector "
-            f"of module {m:g} on the {role} (it needs two tooth spaces, {pitch:.4g} mm apart, besides the lock zones)"
+            f"of module {m:g} on the {role} (it needs two tooth spaces, {pitch:.4g} mm apart, besides the lock zones)",
         )
     th, rr, d = theta[keep], r[keep], dr[keep]
     if sigma < 0:
         th, rr, d = th[::-1], rr[::-1], d[::-1]
     period = 2 * math.pi / lobes
     origin = float(th[0]) - (period - float(th[-1] - th[0])) / 2  # the seam mid-bridge
-    curve = virtual_curve(th - origin, rr, (float(d[0]), float(d[-1])), period)
+    # the spaces are a pitch apart along the curve: the closing bridge over the rest of the turn
+    # must be long enough for 1.5 pitches beyond them (teeth.generate's room to close a sector)
+    bridge = math.degrees(period - float(th[-1] - th[0]))
+    need = (len(space_u) + 0.5) * pitch - float(u[keep][-1] - u[keep][0])
+    radius = 0.5 * float(rr[0] + rr[-1])
+    short = (
+        f"the rest of the {role}'s turn beside the motion {motion.start:g}..{motion.end:g} deg ({bridge:.4g} deg) "
+        f"must close a sector of {len(space_u)} tooth spaces with {need:.4g} mm of pitch curve (1.5 pitches beyond "
+        f"them), about {math.degrees(max(need, 0.0) / radius):.3g} deg at its {radius:.4g} mm radius"
+    )
+    try:
+        with warnings.catch_warnings():  # a bridge of nothing is ill-conditioned: said as too short below
+            warnings.simplefilter("ignore", LinAlgWarning)
+            curve = virtual_curve(th - origin, rr, (float(d[0]), float(d[-1])), period)
+    except TransplanterError as exc:  # a bridge too short (or too bent) for a pitch curve
+        raise SectorFitError(k_motion, role, f"{short}: {exc}") from exc
     # along the virtual curve from a kept sample, a pitch apart: beyond the motion's ends the teeth
     # run on along the bridge (the last may leave after the end; the dwell's sweep relieves it)
     k0 = int(np.flatnonzero(keep)[0])
@@ -181,18 +224,30 @@ def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, add
     s0 = float(curve.arc_length(np.array([np.mod(body0 - origin, period)]))[0])
     lobe_length = curve.perimeter / lobes
     s = np.sort(s0 + sigma * (space_u - u[k0]))  # the frame wraps: no seam to cross
+    span, room = float(s[-1] - s[0]), lobe_length - 1.5 * pitch
+    if span > room:
+        raise SectorFitError(k_motion, role, f"{short}; it has {span - room:.3g} mm too little")
     spaces = np.concatenate([s + k * lobe_length for k in range(lobes)])
+    return _Layout(curve, spaces, origin, internal, teeth * lobes, lobes)
+
+
+def _sector(pair: IncompletePair, cutter: Cutter, motion: Motion, role: str, addendum, zone=(0.0, 0.0)):
+    """The toothed sector of ``motion`` on the ``role`` gear: the driver's teeth phased by the
+    path of contact at the motion's ends (:func:`_tooth_centres`), the driven's spaces where they
+    meet them; ``zone`` (mm of roll at the motion's start and end) left to the closing bridge of
+    the driven's virtual curve (:func:`_layout`: where, or why it does not fit)."""
+    at = _layout(pair, cutter, motion, role, addendum, zone)
     gear = generate(
-        curve, cutter, None, internal=internal, addendum=addendum[0 if role == "driver" else 1], spaces=spaces
+        at.curve, cutter, None, internal=at.internal, addendum=addendum[0 if role == "driver" else 1], spaces=at.spaces
     )
     points = np.array([sp.pitch_point for sp in gear.spaces])
     normals = np.array([sp.normal for sp in gear.spaces])
-    tip = gear.removed[0] if internal else gear.blank
+    tip = gear.removed[0] if at.internal else gear.blank
     return _Sector(
-        _turn(gear.polygon, origin),
-        _turn(tip, origin),
-        _turn(gear.cut, origin),
-        turned(points, origin),
-        turned(normals, origin),
-        teeth * lobes,
+        _turn(gear.polygon, at.origin),
+        _turn(tip, at.origin),
+        _turn(gear.cut, at.origin),
+        turned(points, at.origin),
+        turned(normals, at.origin),
+        at.teeth,
     )

@@ -6,7 +6,10 @@ The *make* station: arcs fitted to outlines (:mod:`~transplanter.shop.arcs`), wh
 (:mod:`~transplanter.shop.dxf`, :mod:`~transplanter.shop.stl`, :mod:`~transplanter.shop.step`,
 :mod:`~transplanter.shop.threemf`), behind one interface that writes a part, reads it back and
 verifies it (:mod:`~transplanter.shop.formats`); a family's files as one atomic transaction
-(:mod:`~transplanter.shop.export`).
+(:mod:`~transplanter.shop.export`). What a shop buys by name -- materials, bearings, bushes, keys,
+circlips, screws, fits, each row with its standard and source -- in
+:mod:`~transplanter.shop.catalogue`, and a machine's bill of materials (made and bought parts,
+stable item numbers, one to one with the files) in :mod:`~transplanter.shop.bom`.
 
 Takes
     outlines (shapely polygons, mm) from :mod:`transplanter.geometry` and the studies.

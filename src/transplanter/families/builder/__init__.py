@@ -1,4 +1,5 @@
-"""Families themselves: a part script loaded with its folder (:mod:`~.scripts`), what the builder asks
+"""Families themselves: a part script loaded with its folder (:mod:`~.scripts`), the optimum
+written into a design module's tuple (:mod:`~.optimum`), what the builder asks
 of a study (the :class:`~.study.Study` protocol, :mod:`~.study`), how a prismatic part is made into
 its shop files (:mod:`~.making`), the manifest a build records and the check that a manifest read
 from disk has that shape (:mod:`~.manifest`), building parts in worker processes (:mod:`~.workers`),

@@ -4,10 +4,12 @@ disk.
 **Trust.** A folder being checked may come from anyone, so checking it runs no code from it and
 reads nothing outside it:
 
-- by default nothing is executed: the manifest is read (size- and depth-limited, its file names
-  plain names inside the folder, its seal against hand edits), every file it lists is hashed
-  against its SHA-256 (a file that is a symbolic link is not followed), and the shop files are
-  re-read by their readers (data only);
+- by default nothing is executed: the manifest is read (by the one reader,
+  :func:`transplanter.core.files.read_regular`: a regular file — a FIFO, device or link is never
+  opened —, size- and depth-limited; checked against its schema field by field, its file names
+  plain names inside the folder; its seal against hand edits), every file it lists is read the
+  same way and hashed against its SHA-256, and the shop files are re-read by their readers (data
+  only);
 - with ``run_script`` (``--run-script``) the design is loaded from its part script to re-run the
   proofs on the files — only a script inside the project (the working folder) whose SHA-256, and
   that of every module beside it that it imported, is the manifest's; anything else is refused
@@ -20,8 +22,16 @@ import os
 from pathlib import Path
 
 from transplanter.core.errors import ExportError, PartScriptError, SpecError
+from transplanter.core.files import FileRefused, read_regular
 from transplanter.families.builder import workers
-from transplanter.families.builder.manifest import listed_file, plain_name, read_manifest, seal_matches, sha256
+from transplanter.families.builder.manifest import (
+    MAX_SCRIPT_BYTES,
+    listed_file,
+    plain_name,
+    read_manifest,
+    seal_matches,
+    sha256,
+)
 from transplanter.families.builder.scripts import Family, load_family
 from transplanter.families.builder.study import Checked
 from transplanter.shop import formats
@@ -52,7 +62,7 @@ def trusted_script(root: Path, recorded: dict, script: str | Path | None) -> Pat
         )
     if "sha256" not in recorded:
         raise PartScriptError(f"{root}: refusing to run {path}: the manifest records no SHA-256 of its script")
-    if sha256(real.read_bytes()) != recorded["sha256"]:
+    if sha256(_script_bytes(root, real)) != recorded["sha256"]:
         raise PartScriptError(
             f"{root}: refusing to run {path}: its SHA-256 is not the one the manifest records (the script changed "
             "since the build, or it is not the script the folder was built from) — rebuild, or check without "
@@ -60,12 +70,21 @@ def trusted_script(root: Path, recorded: dict, script: str | Path | None) -> Pat
         )
     for name, digest in sorted(recorded.get("modules", {}).items()):
         module = real.parent / str(name)
-        if not plain_name(name) or not module.is_file() or sha256(module.read_bytes()) != digest:
+        if not plain_name(name) or not module.is_file() or sha256(_script_bytes(root, module)) != digest:
             raise PartScriptError(
                 f"{root}: refusing to run {path}: the module {name!r} beside it is missing or is not the one the "
                 "build imported (SHA-256 differs)"
             )
     return path
+
+
+def _script_bytes(root: Path, path: Path) -> bytes:
+    """A script or design module hashed before it may run, through the one reader (a regular file,
+    at most ``MAX_SCRIPT_BYTES``); PartScriptError if it cannot be."""
+    try:
+        return read_regular(path, "the part script", MAX_SCRIPT_BYTES, follow_links=True)
+    except FileRefused as exc:
+        raise PartScriptError(f"{root}: refusing to run it: {exc}") from exc
 
 
 def _read_files(root: Path, listed: dict, out: dict) -> dict[str, bytes]:
@@ -116,7 +135,7 @@ def check_family(
     root = Path(folder)
     if root.is_symlink():
         raise SpecError(f"{root} is a symbolic link (to {os.readlink(root)}): a checked folder is not followed")
-    if not (root / "manifest.json").is_file():
+    if not os.path.lexists(root / "manifest.json"):  # (one that is not a regular file: damaged, below)
         previous = interrupted_swap(root)
         if previous is not None:
             raise ExportError(
@@ -145,8 +164,8 @@ def check_family(
     listed = {"manifest.json", *manifest.get("report", {"report.html": ""})}
     for rec in manifest["parts"].values():
         listed.update(rec.get("files", {}), rec.get("previous_files", {}))
-    for f in sorted(root.iterdir()):
-        if (f.is_file() or f.is_symlink()) and f.name not in listed and not f.name.endswith(".tmp"):
+    for f in sorted(root.iterdir()):  # anything there: a file, a link, a FIFO, a folder
+        if f.name not in listed and not f.name.endswith(".tmp"):
             out["files"][f.name] = "not in the manifest (a file of a part no longer built?)"
     _read_files(root, manifest.get("report", {}), out)
     parts = {p.name: p for p in fam.parts} if fam is not None else {}

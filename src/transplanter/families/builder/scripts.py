@@ -7,7 +7,6 @@ script runs it: only scripts a user chose to build or check are loaded.
 
 from __future__ import annotations
 
-import ast
 import dataclasses
 import os
 import re
@@ -25,9 +24,8 @@ from pathlib import Path
 from transplanter.core.errors import PartScriptError, SpecError, TransplanterError
 from transplanter.core.inputs import SCRIPT_TIMEOUT_S
 from transplanter.families.builder.study import Study
-from transplanter.shop.export import atomic_write
 
-__all__ = ["Family", "discover", "load_family", "record_optimum", "run_script"]
+__all__ = ["Family", "discover", "load_family", "run_script"]
 
 
 _NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.-]*$")
@@ -221,41 +219,3 @@ def discover(parts_dir: str | Path) -> list[Path]:
     if not d.is_dir():
         raise PartScriptError(f"parts folder {d} does not exist (run from the project root or pass scripts)")
     return sorted(p for p in d.glob("*.py") if not p.name.startswith("_"))
-
-
-def record_optimum(path: str | Path, name: str, values) -> Path:
-    """Write ``values`` into the design module ``path`` as its module-level ``name = (...)``
-    (``transplanter optimise --write``): the assignment is found in the file's syntax tree — it
-    must be one, to a tuple of numbers — and replaced in place, everything else in the file kept
-    byte for byte; written atomically. PartScriptError when the file has no such assignment."""
-    p = Path(path)
-    source = p.read_text()
-    try:
-        tree = ast.parse(source)
-    except SyntaxError as exc:
-        raise PartScriptError(f"{p}:{exc.lineno}: syntax error: {exc.msg}") from exc
-    found = [
-        node
-        for node in tree.body
-        if isinstance(node, ast.Assign)
-        and len(node.targets) == 1
-        and isinstance(node.targets[0], ast.Name)
-        and node.targets[0].id == name
-    ]
-    numbers = (ast.Constant, ast.UnaryOp)
-    if (
-        len(found) != 1
-        or not isinstance(found[0].value, ast.Tuple)
-        or not all(isinstance(e, numbers) for e in found[0].value.elts)
-    ):
-        raise PartScriptError(
-            f"{p}: the optimum is recorded in one module-level assignment '{name} = (numbers, ...)'; "
-            f"found {len(found)} assignment{'s' if len(found) != 1 else ''} of {name!r} to a tuple of numbers"
-        )
-    node = found[0]
-    if len(node.value.elts) != len(values):
-        raise PartScriptError(f"{p}: {name} holds {len(node.value.elts)} values, the optimum {len(values)}")
-    lines = source.splitlines(keepends=True)
-    text = f"{name} = (\n" + "".join(f"    {float(v)!r},\n" for v in values) + ")\n"
-    new = "".join(lines[: node.lineno - 1]) + text + "".join(lines[node.end_lineno :])
-    return atomic_write(p, new.encode())

@@ -27,24 +27,25 @@ from __future__ import annotations
 import dataclasses
 import inspect
 import math
+from collections.abc import Mapping
 from pathlib import Path
 
 import numpy as np
 
 from transplanter.core import inputs
-from transplanter.core.errors import SpecError, check_int, check_number
+from transplanter.core.errors import SpecError
+from transplanter.core.files import FileRefused, read_regular
 from transplanter.families.builder.build import build_family
 from transplanter.families.builder.making import Making
 from transplanter.families.builder.manifest import previous_manifest
 from transplanter.families.builder.scripts import Family
-from transplanter.families.pairs.incomplete_pair import LOCKING_PLAY_DEG, IncompletePairStudy
+from transplanter.families.pairs.incomplete_pair import LOCKING_PLAY_DEG
+from transplanter.families.pairs.pair_options import INTERNAL_RING_ADDENDUM as INTERNAL_RING_ADDENDUM
+from transplanter.families.pairs.pair_options import check_options, chosen_cutter
 from transplanter.families.pairs.toothed import ToothedPairStudy
-from transplanter.geometry.cutter import RackCutter, ShaperCutter
 from transplanter.geometry.cutter_choice import first_cutter
 from transplanter.geometry.pair_gate import per_gear
 from transplanter.geometry.pitch import GearPair
-from transplanter.geometry.pitch.intermittent import IntermittentLaw, is_segmented
-from transplanter.geometry.pitch.transmission import csv_table, size_pair, transmission
 from transplanter.shop.solids import Features
 
 __all__ = ["gear_pair", "pair_family", "BORE_FRACTION", "DEFAULT_WIDTH"]
@@ -67,17 +68,7 @@ def _bore_of(root: float) -> float:
     return max(3.0, math.floor(2 * BORE_FRACTION * root) / 2)
 
 
-def _chosen_cutter(rack, cutter_teeth, module: float | None) -> RackCutter | ShaperCutter | None:
-    """The cutter the user chose at ``module`` (mm; None: its study's): the rack, a shaper of
-    ``cutter_teeth``, or None (neither given); both given is refused."""
-    inputs.boolean("rack", rack)  # a truthy string ('no') must not select the rack cutter
-    if rack:
-        if cutter_teeth is not None:
-            raise SpecError("give either rack or cutter_teeth (a shaper cutter's teeth), not both")
-        return RackCutter(module)
-    if cutter_teeth is None:
-        return None
-    return ShaperCutter(check_int("cutter_teeth", cutter_teeth, 8, 200), module)
+_chosen_cutter = chosen_cutter  # the cutter the user chose (pair_options)
 
 
 def pair_family(
@@ -88,7 +79,7 @@ def pair_family(
     module: float | None = None,
     centre_distance: float | None = None,
     driven_lobes: int | None = None,
-    ring: str = "driven",
+    ring: str | None = None,
     backlash: float | None = None,
     cutter_teeth: int | None = None,
     rack: bool = False,
@@ -102,6 +93,7 @@ def pair_family(
     lock_clearance: float | None = None,
     lock_depth: float | None = None,
     locking_play: float = LOCKING_PLAY_DEG,
+    names: Mapping[str, str] | None = None,
 ) -> Family:
     """The family of one toothed pair of ``spec`` (the design; :func:`gear_pair` builds it).
 
@@ -117,8 +109,9 @@ def pair_family(
         Two of them: the driver's tooth count, the module (mm), the centre distance (mm).
     driven_lobes : int or None
         Named curves: lobes of the mate (default: as many for external, one more for a ring).
-    ring : str
-        Internal pairs from a ratio: which gear is the ring, ``"driven"`` or ``"driver"``.
+    ring : str or None
+        Internal pairs from a ratio: which gear is the ring, ``"driven"`` (None: the default) or
+        ``"driver"``; refused for other pairs.
     backlash : float or None
         Circumferential backlash at the pitch point, mm; None: the ISO/TR 10064-2 default.
     cutter_teeth : int or None
@@ -148,6 +141,8 @@ def pair_family(
         into the driven's tips (modules; default 0.3 for an external pair, 0.3 short of the planet's
         tips for an internal one) and the locking play the proof holds the
         dwells and transitions to (deg, default 2).
+    names : mapping or None
+        How the errors name the options (default: as here; ``transplanter pair`` passes its flags).
 
     Notes
     -----
@@ -157,41 +152,29 @@ def pair_family(
     ``teeth`` (the driver's on the first motion's sector) or ``centre_distance``; a shaper cutter
     (``cutter_teeth``, default 16) or ``rack``; ``internal`` for a planet driving its ring (ring
     addendum 0.8 unless ``addendum`` is given, as full rings are trimmed for tip interference).
-    The options of full pairs that do not apply (``driven_lobes``, ``ring="driver"``,
+    The options of full pairs that do not apply (``driven_lobes``, ``ring``,
     ``scale_to_close``, ``shift``, ``trim_ring_tips=False``, ``allow_undercut``) are refused.
+
+    Every option is checked before anything is cut (:func:`~transplanter.families.pairs.pair_options.check_options`:
+    ranges, options that do not apply, and the sizes the pair makes — for a law with dwells every lock
+    and sector at those sizes), each error naming the option as ``names`` says.
     """
-    check_number("width", width, 0.0, 1000.0, low_open=True, unit="mm")
-    inputs.boolean("internal", internal)
-    law = _intermittent(spec)
-    if law is not None:
-        refused = {
-            "driven_lobes": driven_lobes is not None,
-            "ring": ring != "driven",
-            "scale_to_close": scale_to_close is not False,
-            "shift": shift != 0.0,
-            "trim_ring_tips": trim_ring_tips is not True,
-            "allow_undercut": allow_undercut is not False,
-        }
-        for key, given in refused.items():
-            if given:
-                raise SpecError(f"{key} does not apply to an incomplete pair (a law with dwells): leave it out")
-        stated = locals()
-        return _incomplete_family(spec, law, **{k: stated[k] for k in _INCOMPLETE_OPTIONS})
-    if lock_clearance is not None or lock_depth is not None or locking_play != LOCKING_PLAY_DEG:
-        raise SpecError("lock_clearance, lock_depth and locking_play are for incomplete pairs (a law with dwells)")
-    inputs.boolean("scale_to_close", scale_to_close)
-    inputs.boolean("trim_ring_tips", trim_ring_tips)
-    inputs.boolean("allow_undercut", allow_undercut)
+    stated = {k: v for k, v in locals().items() if k not in ("spec", "names")}
+    checked = check_options(spec, names, **stated)  # every option, before anything is cut or written
+    if checked.law is not None:
+        return _incomplete_family(spec, checked, internal=internal, width=width, name=name, module=module)
     gate = {"addendum": per_gear("addendum", addendum), "shift": per_gear("shift", shift)}
     gate |= {"trim_ring_tips": trim_ring_tips, "allow_undercut": allow_undercut}
     mesh = "internal" if internal else "external"
-    found = transmission(spec, mesh, driven_lobes=driven_lobes, ring=ring, scale_to_close=scale_to_close)
-    pair, sizing = size_pair(found.pair, teeth, module, centre_distance)
+    found, pair, sizing = checked.found, checked.pair, checked.sizing
     cutter = _chosen_cutter(rack, cutter_teeth, sizing.module)
     if cutter is None:
         cutter = first_cutter(pair, sizing.teeth, sizing.module, backlash, **gate)
     making = tuple(
-        Making(width, Features() if pair.ring == role else Features(_bore(pair, k, cutter), keyway=False))
+        Making(
+            width,
+            Features() if pair.ring == role else Features(_bore(pair, k, cutter), keyway=False),
+        )
         for k, role in enumerate(("driver", "driven"))
     )
     study = ToothedPairStudy(name, pair, cutter, sizing.teeth[0], making=making, backlash=backlash, **gate)
@@ -206,83 +189,18 @@ def pair_family(
     return Family(name, description, (study,))
 
 
-def _intermittent(spec) -> IntermittentLaw | None:
-    """The intermittent law of ``spec`` when it states one (segments, or a ratio CSV with zero
-    rows), else None (a full pair's transmission)."""
-    if not isinstance(spec, str):
-        return None
-    if is_segmented(spec):
-        return IntermittentLaw.parse(spec)
-    if spec.strip().lower().endswith(".csv"):
-        deg, ratio = csv_table(inputs.read_data_file("ratio CSV", spec.strip(), inputs.MAX_CSV_BYTES))
-        return IntermittentLaw.from_table(deg, ratio) if np.any(ratio == 0) else None
-    return None
-
-
-#: what an incomplete pair takes of :func:`pair_family`'s options
-_INCOMPLETE_OPTIONS = (
-    "internal",
-    "teeth",
-    "module",
-    "centre_distance",
-    "backlash",
-    "cutter_teeth",
-    "rack",
-    "width",
-    "name",
-    "addendum",
-    "lock_clearance",
-    "lock_depth",
-    "locking_play",
-)
-
-
-def _incomplete_family(
-    spec,
-    law,
-    *,
-    internal,
-    teeth,
-    module,
-    centre_distance,
-    backlash,
-    cutter_teeth,
-    rack,
-    width,
-    name,
-    addendum,
-    lock_clearance,
-    lock_depth,
-    locking_play,
-) -> Family:
-    """The family of one incomplete pair (see :func:`pair_family`)."""
-    if module is None or (teeth is None) == (centre_distance is None):
-        raise SpecError(
-            "an incomplete pair is sized by the module and one of teeth (the driver's on the first motion's sector) or "
-            "centre distance"
-        )
-    cutter = _chosen_cutter(rack, cutter_teeth, None) or ShaperCutter(16)  # sized by the study
+def _incomplete_family(spec, checked, *, internal, width, name, module) -> Family:
+    """The family of one incomplete pair (see :func:`pair_family`): the study ``checked`` sized and
+    fitted (:func:`~transplanter.families.pairs.pair_options.check_options`), made."""
+    law, study = checked.law, checked.study
     mesh = "internal" if internal else "external"
-    if internal and addendum == 1.0:
-        addendum = (1.0, INTERNAL_RING_ADDENDUM)
-    study = IncompletePairStudy(
-        name,
-        law,
-        module,
-        mesh=mesh,
-        teeth=teeth,
-        centre_distance=centre_distance,
-        cutter=cutter,
-        backlash=backlash,
-        lock_clearance=lock_clearance,
-        lock_depth=lock_depth,
-        max_play_deg=locking_play,
-        addendum=addendum,
-    )
     pair = study.pair
     making = (
         Making(width, Features(_sector_bore(pair, "driver", module), keyway=False)),
-        Making(width, Features() if internal else Features(_sector_bore(pair, "driven", module), keyway=False)),
+        Making(
+            width,
+            Features() if internal else Features(_sector_bore(pair, "driven", module), keyway=False),
+        ),
     )
     study = dataclasses.replace(study, making=making)
     description = (
@@ -302,13 +220,10 @@ def _sector_bore(pair, role: str, module: float) -> float:
     return _bore_of(min(radii) - 1.25 * module)
 
 
-#: an internal incomplete pair's ring addendum when none is given (modules): its tips clear the
-#: planet's as a full ring's are trimmed to the closed-form interference limit
-INTERNAL_RING_ADDENDUM = 0.8
-
-
 #: how a part script written by :func:`gear_pair` says so (it replaces only such a script)
 SCRIPT_MARK = "Written by `transplanter pair`"
+#: the largest ``pair.py`` read to see whether ``pair`` wrote it, bytes (it writes a few hundred)
+SCRIPT_LIMIT = 1 << 20
 #: the part script :func:`gear_pair` leaves beside the folder: the call, stated once
 SCRIPT = '''"""{description}
 
@@ -324,14 +239,14 @@ def family():
 '''
 
 
-def gear_pair(spec: str, out: str | Path, **options) -> dict:
+def gear_pair(spec: str, out: str | Path, names: Mapping[str, str] | None = None, **options) -> dict:
     """Make the pair of ``spec`` (options as :func:`pair_family`) in ``out``: the part script
     ``<out>/<name>.py`` that states the call (rebuild or grow it like any part script), and the
     family built from it into ``<out>/<name>/`` — shop files, meshing proof, ``report.html``,
     ``manifest.json``. Returns the manifest."""
-    out = inputs.folder("out", out)
-    family = pair_family(spec, **options)  # bad input fails here, before anything is written
-    if Path(spec).suffix.lower() == ".csv":
+    out = inputs.folder((names or {}).get("out", "out"), out)
+    family = pair_family(spec, names=names, **options)  # bad input fails here, before anything is written
+    if inputs.is_csv_path(spec):  # the file as given ('r.csv ' is not 'r.csv'), from anywhere
         spec = str(Path(spec).resolve())
     defaults = {k: p.default for k, p in inspect.signature(pair_family).parameters.items()}
     stated = {k: v for k, v in sorted(options.items()) if v != defaults.get(k)}
@@ -348,7 +263,11 @@ def gear_pair(spec: str, out: str | Path, **options) -> dict:
 def _refuse_foreign(out: Path, name: str, script: Path) -> None:
     """SpecError when ``out/<name>.py`` or ``out/<name>/`` belongs to something other than an earlier
     ``transplanter pair`` of that name: a user's own script, another family's export."""
-    if script.is_symlink() or (script.exists() and SCRIPT_MARK not in script.read_text(errors="replace")):
+    try:  # a FIFO, device or link there is refused without opening it: a read never blocks
+        written = read_regular(script, "the pair's script", SCRIPT_LIMIT, missing_ok=True)
+    except FileRefused:
+        written = b""
+    if written is not None and SCRIPT_MARK.encode() not in written:
         raise SpecError(
             f"{script} exists and was not written by transplanter pair: it is not replaced - choose another --name "
             "or output folder"

@@ -8,10 +8,12 @@ driven gear is toothed where it moves and held by a locking arc where it dwells
 
 Three ways in, one way out (an :class:`IntermittentLaw`):
 
-* **text** (``transplanter pair``): segments ``A..B: dwell`` or ``A..B: EXPR`` separated by ``;``,
-  A and B driver angles in degrees, contiguous over one turn; EXPR is ψ(φ) in ``phi`` (rad, the
-  driver's absolute angle; only its rise over the segment counts — a dwell holds the angle), with
-  the expression rules of :mod:`transplanter.geometry.pitch.transmission` (checked syntax tree, no eval)::
+* **text** (``transplanter pair``): segments ``A..B: dwell`` or ``A..B: EXPR`` separated by ``;``
+  or a new line, A and B driver angles in degrees, contiguous over one turn; EXPR is ψ(φ) in
+  ``phi`` (rad, the driver's absolute angle; only its rise over the segment counts — a dwell holds
+  the angle), with the expression rules of :mod:`transplanter.geometry.pitch.transmission` (checked
+  syntax tree, no eval); the grammar, and each refusal naming the segment, in
+  :mod:`transplanter.geometry.pitch.law_text`::
 
       0..60: dwell; 60..360: 2*pi*(phi - pi/3)/(5*pi/3) - 0.35*sin(2*pi*(phi - pi/3)/(5*pi/3))
 
@@ -44,7 +46,6 @@ Examples
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -53,9 +54,10 @@ from numpy.polynomial import Chebyshev
 from scipy.interpolate import CubicSpline
 
 from transplanter.core.errors import GeometryError, SpecError, check_number, finite_positive
+from transplanter.geometry.pitch.law_text import MAX_SEGMENTS, is_segmented, segments
 from transplanter.geometry.pitch.transmission import _compile, csv_table
 
-__all__ = ["Dwell", "Motion", "IntermittentLaw", "IncompletePair", "Transition", "is_segmented"]
+__all__ = ["Dwell", "Motion", "IntermittentLaw", "IncompletePair", "Transition", "is_segmented", "MAX_SEGMENTS"]
 
 #: Chebyshev degrees tried for a motion's ψ(φ), lowest first; the last coefficients must have died
 #: out to ``CHEB_TAIL`` of the largest (else the expression is not smooth over its segment)
@@ -65,12 +67,6 @@ CHEB_TAIL = 1e-10
 CLOSURE_ROUND_OFF = 1e-9
 #: smallest ratio a motion may reach (the driver's pitch radius a i/(1+i) falls with it)
 MIN_RATIO = 0.05
-_SEGMENT = re.compile(r"^\s*([-+0-9.eE]+)\s*\.\.\s*([-+0-9.eE]+)\s*:\s*(.+?)\s*$", re.S)
-
-
-def is_segmented(spec: str) -> bool:
-    """Whether ``spec`` is a segmented law (``A..B: ...``), not a periodic transmission."""
-    return isinstance(spec, str) and _SEGMENT.match(spec.split(";", 1)[0]) is not None
 
 
 @dataclass(frozen=True)
@@ -152,14 +148,20 @@ class IntermittentLaw:
         segs = tuple(self.segments)
         if not segs or not all(isinstance(s, Dwell | Motion) for s in segs):
             raise SpecError("an intermittent law is a sequence of Dwell and Motion segments")
-        for s in segs:
-            check_number(f"segment start {s.start!r}", s.start, -360.0, 720.0, unit="deg")
-            check_number(f"segment end {s.end!r}", s.end, -360.0, 720.0, unit="deg")
+        if len(segs) > MAX_SEGMENTS:
+            raise SpecError.out_of_range("the law's number of segments", len(segs), f"<= {MAX_SEGMENTS}")
+        for k, s in enumerate(segs, 1):
+            check_number(f"segment {k}'s start", s.start, -360.0, 720.0, unit="deg")
+            check_number(f"segment {k}'s end", s.end, -360.0, 720.0, unit="deg")
             if not s.end > s.start:
-                raise SpecError.out_of_range(f"segment {s.start:g}..{s.end:g} deg: its end", s.end, f"> {s.start:g}")
-        for prev, nxt in zip(segs, segs[1:], strict=False):
+                where = f"segment {k} ({s.start:g}..{s.end:g} deg): its end"
+                raise SpecError.out_of_range(where, s.end, f"> {s.start:g}")
+        for k, (prev, nxt) in enumerate(zip(segs, segs[1:], strict=False), 2):
             if abs(nxt.start - prev.end) > 1e-9:
-                raise SpecError(f"the segments must follow each other: {prev.end:g} deg then {nxt.start:g} deg")
+                raise SpecError(
+                    f"the segments must follow each other: segment {k - 1} ends at {prev.end:g} deg, segment {k} "
+                    f"starts at {nxt.start:g} deg"
+                )
         if abs(segs[-1].end - segs[0].start - 360.0) > 1e-9:
             raise SpecError.out_of_range("the segments' span", segs[-1].end - segs[0].start, "one driver turn, 360 deg")
         if not any(isinstance(s, Dwell) for s in segs) or not any(isinstance(s, Motion) for s in segs):
@@ -199,22 +201,11 @@ class IntermittentLaw:
 
     @classmethod
     def parse(cls, text: str) -> IntermittentLaw:
-        """The law of ``A..B: dwell; A..B: EXPR; ...`` (module docstring)."""
-        if not isinstance(text, str) or not text.strip():
-            raise SpecError(f"the intermittent law must be text 'A..B: dwell; A..B: EXPR', got {text!r}")
+        """The law of ``A..B: dwell; A..B: EXPR; ...`` (module docstring): segments separated by ``;``
+        or a line break, at most ``MAX_SEGMENTS``; SpecError naming the segment and what was expected."""
         segs = []
-        for part in (p for p in text.split(";") if p.strip()):
-            m = _SEGMENT.match(part)
-            if m is None:
-                raise SpecError(
-                    f"the law's segment {part.strip()!r} is not 'A..B: dwell' or 'A..B: EXPR' (A, B in deg)"
-                )
-            try:
-                a, b = float(m.group(1)), float(m.group(2))
-            except ValueError as exc:
-                raise SpecError(f"the law's segment {part.strip()!r}: its angles must be numbers (deg)") from exc
-            body = m.group(3).strip()
-            segs.append(Dwell(a, b) if body.lower() == "dwell" else Motion(a, b, body))
+        for start, end, body in segments(text):
+            segs.append(Dwell(start, end) if body is None else Motion(start, end, body))
         return cls(tuple(segs))
 
     @classmethod

@@ -35,9 +35,7 @@ Examples
 from __future__ import annotations
 
 import ast
-import io
 import math
-import warnings
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import cast
@@ -45,7 +43,14 @@ from typing import cast
 import numpy as np
 
 from transplanter.core.errors import SpecError, check_int, check_number, finite_positive
-from transplanter.core.inputs import MAX_CSV_BYTES, MAX_CSV_ROWS, MAX_TEETH, read_data_file
+from transplanter.core.inputs import CSV_LARGEST_GAP_DEG as CSV_LARGEST_GAP_DEG  # the samples' widest gap
+from transplanter.core.inputs import (
+    MAX_CSV_BYTES,
+    MAX_TEETH,
+    is_csv_path,
+    ratio_samples,
+    read_data_file,
+)
 from transplanter.geometry.pitch.curve import PitchCurve
 from transplanter.geometry.pitch.pair import GearPair, Mesh, _mesh
 from transplanter.geometry.pitch.periodic import (
@@ -57,7 +62,7 @@ from transplanter.geometry.pitch.periodic import (
     Scaled,
 )
 
-__all__ = ["Transmission", "transmission", "ratio_from_expression", "ratio_from_csv", "NAMED_CURVES"]
+__all__ = ["Transmission", "transmission", "ratio_from_expression", "ratio_from_csv", "NAMED_CURVES", "is_named_curve"]
 
 #: the named driver curves and what their parameter means
 NAMED_CURVES = {
@@ -240,58 +245,18 @@ def ratio_from_expression(expr: str) -> Periodic:
     return FourierSeries(mean, harmonics * b[harmonics - 1], -harmonics * a[harmonics - 1], lobes=lobes)
 
 
-#: the widest stretch of a driver turn the ratio samples may leave out (deg, the wrap included):
-#: samples that span less are not a turn — typically angles given in radians
-CSV_LARGEST_GAP_DEG = 90.0
-
-
 def csv_table(data: bytes) -> tuple[np.ndarray, np.ndarray]:
-    """(driver angle in deg, ratio) of a ratio CSV: an optional header row, then two numbers per
-    row, at least 8 and at most ``MAX_CSV_ROWS`` rows, the angles finite and increasing within
-    [0, 360). SpecError saying which rule a file breaks; the ratios are the caller's to judge."""
-    if isinstance(data, str):
-        data = data.encode()
-    if not isinstance(data, bytes | bytearray):
-        raise SpecError(f"the ratio CSV must be bytes or text, got {type(data).__name__}")
-    rows = data.count(b"\n") + (not data.endswith(b"\n"))
-    if rows > MAX_CSV_ROWS + 1:
-        raise SpecError.out_of_range("the ratio CSV's rows", rows, f"<= {MAX_CSV_ROWS} samples (and a header)")
-    first = data.split(b"\n", 1)[0]
-    try:  # a first row of two numbers is a sample, not a header (it was dropped)
-        header = len([float(x) for x in first.split(b",")]) != 2
-    except ValueError:
-        header = True
-    try:
-        with warnings.catch_warnings():  # "input contained no data": said below, with the rule
-            warnings.simplefilter("ignore", UserWarning)
-            table = np.loadtxt(io.BytesIO(data), delimiter=",", skiprows=1 if header else 0, ndmin=2)
-    except ValueError as exc:
-        raise SpecError(f"the ratio CSV cannot be read as numbers (header, then 'phi_deg, ratio' rows): {exc}") from exc
-    if table.shape[1] != 2 or len(table) < 8:
-        raise SpecError(
-            f"the ratio CSV has {table.shape[1]} columns and {len(table)} rows: it needs 2 columns (driver angle "
-            "in deg, ratio) and at least 8 rows over one driver turn"
-        )
-    deg, ratio = table[:, 0], table[:, 1]
-    if not (np.all(np.isfinite(table)) and np.all(np.diff(deg) > 0) and deg[0] >= 0 and deg[-1] < 360):
-        raise SpecError("the ratio CSV's driver angles must be finite and increase within [0, 360) deg")
-    return deg, ratio
+    """(driver angle in deg, ratio) of a ratio CSV: :func:`transplanter.core.inputs.ratio_samples`,
+    the one reader of full pairs' and of dwells' samples (header optional, a byte-order mark
+    dropped, no stretch over ``CSV_LARGEST_GAP_DEG`` without a sample); the ratios are the
+    caller's to judge."""
+    return ratio_samples(data)
 
 
 def ratio_from_csv(data: bytes) -> Periodic:
-    """ω2/ω1 from a CSV of samples over one driver turn (:func:`csv_table`), no stretch of more
-    than ``CSV_LARGEST_GAP_DEG`` left out, every ratio positive; a periodic cubic spline through
-    them."""
+    """ω2/ω1 from a CSV of samples over one driver turn (:func:`csv_table`), every ratio positive;
+    a periodic cubic spline through them."""
     deg, ratio = csv_table(data)
-    gap = float(max(np.max(np.diff(deg), initial=0.0), 360.0 - deg[-1] + deg[0]))
-    if gap > CSV_LARGEST_GAP_DEG:
-        radians = (
-            f" — they look like radians (the largest is {deg[-1]:.4g}); give degrees" if deg[-1] <= 2 * math.pi else ""
-        )
-        raise SpecError(
-            f"the ratio CSV's driver angles leave {gap:.4g} deg of the turn without a sample (limit "
-            f"{CSV_LARGEST_GAP_DEG:g} deg){radians}"
-        )
     if np.any(ratio <= 0):
         i = int(np.argmax(ratio <= 0))
         raise SpecError.out_of_range(f"ratio at {deg[i]:g} deg", float(ratio[i]), "> 0")
@@ -378,6 +343,18 @@ def _named(spec: str, mesh: Mesh, driven_lobes: int | None) -> GearPair:
     return pair.scaled(NOMINAL_CENTRE_DISTANCE / pair.centre_distance)
 
 
+def is_named_curve(spec) -> bool:
+    """Whether ``spec`` names a driver curve (``NAME:PARAMS``) rather than an expression or a CSV
+    file: ``'run:2.csv'`` is a file, ``'lambda: phi'`` an expression (refused as one),
+    ``'hyperbola:1'`` an unknown curve."""
+    if not isinstance(spec, str) or is_csv_path(spec):
+        return False
+    spec = spec.strip()
+    head = spec.partition(":")[0]
+    params = spec.partition(":")[2].replace(":", "").replace(".", "").replace("-", "").replace("e", "").strip()
+    return head in NAMED_CURVES or (":" in spec and head.isidentifier() and (params.isdigit() or not params))
+
+
 def transmission(
     spec: str,
     mesh: Mesh | str = Mesh.EXTERNAL,
@@ -400,17 +377,15 @@ def transmission(
         raise SpecError.out_of_range("scale_to_close", scale_to_close, "True or False")
     if not isinstance(spec, str) or not spec.strip():
         raise SpecError(f"the transmission must be an expression in phi, a CSV file or a named curve, got {spec!r}")
+    csv = is_csv_path(spec)  # a file first: 'run:2.csv' is a file, not a curve named 'run'
+    path = spec  # a file is read at the path exactly as given: 'r.csv ' is not 'r.csv'
     spec = spec.strip()
-    head = spec.partition(":")[0]
-    csv = spec.lower().endswith(".csv")  # a file first: 'run:2.csv' is a file, not a curve named 'run'
-    params = spec.partition(":")[2].replace(":", "").replace(".", "").replace("-", "").replace("e", "").strip()
-    curve = head in NAMED_CURVES or (":" in spec and head.isidentifier() and (params.isdigit() or not params))
-    if not csv and curve:  # 'lambda: phi' is an expression (refused as one), 'hyperbola:1' an unknown curve
+    if is_named_curve(spec):
         return Transmission(_named(spec, mesh, driven_lobes), spec)
     if driven_lobes is not None:
         raise SpecError("driven_lobes is for named curves: a ratio fixes the driven gear's lobes itself")
     if csv:
-        ratio = ratio_from_csv(read_data_file("ratio CSV", spec, MAX_CSV_BYTES))
+        ratio = ratio_from_csv(read_data_file("ratio CSV", path, MAX_CSV_BYTES))
     else:
         ratio = ratio_from_expression(spec)
     ratio, scale = _closing(ratio, scale_to_close)
