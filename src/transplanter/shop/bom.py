@@ -2,7 +2,7 @@
 
 A **made part** (:class:`MadePart`) is named by its files' stem (``carrier.dxf``, ``carrier.stl``
 -> ``carrier``) and carries its quantity, its material (a name of
-:func:`transplanter.shop.catalogue.material`) and the volume of its solid: its mass is the
+``transplanter.shop.catalogue.material``) and the volume of its solid: its mass is the
 material's density times that volume (:meth:`MadePart.from_solid` reads the volume from the
 manifold3d solid). A **bought part** (:class:`BoughtPart`) carries its standard designation, its
 standard, its quantity and its mass each -- :meth:`BoughtPart.of` takes them from any part the

@@ -2,14 +2,14 @@
 nothing else in the file touched.
 
 The module is read, never run: its encoding from its PEP 263 cookie or BOM
-(:func:`tokenize.detect_encoding`), the tuple ``NAME = (numbers, ...)`` found in its syntax tree
-(:func:`ast.parse`), and only the numbers that changed replaced, each in its own source span — the
+(``tokenize.detect_encoding``), the tuple ``NAME = (numbers, ...)`` found in its syntax tree
+(``ast.parse``), and only the numbers that changed replaced, each in its own source span — the
 statements on the tuple's lines, its comments and layout, the BOM, the cookie's encoding and the
 file's mode kept. A number is written as the shortest text that reads back as the same float
 (``repr``); one that did not change keeps its text (``339.996376`` stays, never
 ``339.99637599999994``); an int literal stays an int where the value is whole or a choice. A
 module reached through a symbolic link is written at the link's target (the link kept); the
-write is atomic (a temporary file in the target's folder, then :func:`os.replace`).
+write is atomic (a temporary file in the target's folder, then ``os.replace``).
 
 Everything that could refuse the write is checked by :func:`module_file` and :func:`find_optimum`
 before the search starts: the file is a regular file, writable (its mode and its folder), decodes
