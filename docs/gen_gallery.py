@@ -7,10 +7,12 @@ GIF that a family's ``manifest.json`` lists into the site (``gallery/<family>/``
 description and each part's kind. A folder without a build stops the site's build, saying so: build
 first (``.ci/run`` runs ``transplanter build -o exports`` before ``mkdocs build --strict``).
 
-The one picture that is committed, ``docs/img/seed004_ring_planet.png`` (the README's and the home
-page's), is the build's ``exports/planetary_seed004/optimised_ring_planet.teeth.png`` — the
-optimised seed-004 ring and planet as cut, in mesh at the start — made smaller with Pillow
-(matplotlib's dependency)::
+The two pictures that are committed, ``docs/img/seed004_ring_planet.png`` (the README's and the
+home page's) and ``docs/img/seed004_machine.png`` (the README's machine section), are the build's
+``exports/planetary_seed004/optimised_ring_planet.teeth.png`` — the optimised seed-004 ring and
+planet as cut, in mesh at the start — and ``machine.assembly.png`` — the machine assembled at the
+start, its balloons the bill of materials' items — made smaller with Pillow (matplotlib's
+dependency), the same way for the second::
 
     transplanter build parts/planetary_seed004.py
     python -c "from PIL import Image; im = Image.open('exports/planetary_seed004/optimised_ring_planet.teeth.png'); \\

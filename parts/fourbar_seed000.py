@@ -19,7 +19,7 @@ import math
 
 from transplanter.design.linkage.dh import DHFourBar
 from transplanter.design.linkage.planting import PlantingArm
-from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy
+from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy, Making
 
 CRANK_SPEED = 8 * math.pi  # rad/s, 240 rpm
 FORWARD_SPEED = 600.0  # mm/s
@@ -28,6 +28,8 @@ PLANTING_DEPTH = 40.0  # mm
 PIN = Joint("ISO 2338 pin 8 m6, running fit", hole=8.05, boss=20.0)  # mm
 SHAFT = Joint("drive shaft 12 h7, DIN 6885-1 key 4x4", hole=12.05, boss=28.0)  # mm
 PLATE = 6.0  # mm
+#: the plates' material (transplanter.shop.catalogue): seed 000 names none; S235JR steel plate, our choice
+PLATES = Making(width=PLATE, material="S235JR")
 NOSE = 5.0  # mm, finger tip radius
 
 # name: (a1, a2, a3, a4, X3P, Y3P [mm], phi [deg], sense of crank rotation)
@@ -50,6 +52,6 @@ def family() -> Family:
         description="Seed 000 crank-rocker planting mechanisms A, B, C (Table 1): Table 2 metrics and link plates",
         parts=(
             *(ArmStudy(arm(name), PLANTING_DEPTH) for name in TABLE_1),
-            *(LinkPlatesStudy(f"{name}_plates", arm(name), PIN, SHAFT, PLATE, NOSE) for name in TABLE_1),
+            *(LinkPlatesStudy(f"{name}_plates", arm(name), PIN, SHAFT, PLATE, NOSE, making=PLATES) for name in TABLE_1),
         ),
     )

@@ -20,7 +20,7 @@ import math
 
 from transplanter.design.linkage.fourbar import FourBar
 from transplanter.design.linkage.planting import PlantingArm
-from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy
+from transplanter.families import ArmStudy, Family, Joint, LinkPlatesStudy, Making
 
 LINKAGE = FourBar(ground=330.0, crank=60.0, coupler=200.0, rocker=213.0, ground_angle=math.radians(37.4), branch=-1)
 CRANK_SPEED = 2 * math.pi * 125 / 60  # rad/s
@@ -30,6 +30,8 @@ FINGER = (200.0 + 253.0, 0.0)  # mm in the coupler frame
 PIN = Joint("ISO 2338 pin 10 m6, running fit", hole=10.05, boss=24.0)  # mm
 SHAFT = Joint("drive shaft 20 h7, DIN 6885-1 key 6x6", hole=20.05, boss=40.0)  # mm
 PLATE = 8.0  # mm
+#: the plates' material (transplanter.shop.catalogue): seed 001 names none; S235JR steel plate, our choice
+PLATES = Making(width=PLATE, material="S235JR")
 NOSE = 6.0  # mm, finger tip radius
 
 
@@ -40,6 +42,6 @@ def family() -> Family:
         description="Seed 001 four-bar of an 8-row power-tiller transplanter (Table 1) and its link plates",
         parts=(
             ArmStudy(arm, planting_depth=40.0),
-            LinkPlatesStudy("eight_row_arm_plates", arm, PIN, SHAFT, PLATE, NOSE),
+            LinkPlatesStudy("eight_row_arm_plates", arm, PIN, SHAFT, PLATE, NOSE, making=PLATES),
         ),
     )

@@ -19,7 +19,7 @@ import math
 from transplanter.design.linkage.dynamics import LinkMass, MassModel
 from transplanter.design.linkage.fourbar import FourBar
 from transplanter.design.linkage.planting import PlantingArm
-from transplanter.families import BalancingStudy, Family, Joint, LinkPlatesStudy
+from transplanter.families import BalancingStudy, Family, Joint, LinkPlatesStudy, Making
 from transplanter.families.mechanisms.plates import finger_for_centre_of_mass
 
 # name: (a, b, c, d, (gb1, gb2), (gc1, gc2), (gd1, gd2), mb, mc, md [kg], phi [deg], rpm)
@@ -32,6 +32,8 @@ TABLE_3 = {
 BEARING = Joint("626 ball bearing 6x19x6 in an N7 housing", hole=19.0, boss=28.0)  # mm
 SHAFT = Joint("drive shaft 12 h7, DIN 6885-1 key 4x4", hole=12.05, boss=28.0)  # mm
 PLATE = 6.0  # mm
+#: the plates' material (transplanter.shop.catalogue): seed 003 names none; S235JR steel plate, our choice
+PLATES = Making(width=PLATE, material="S235JR")
 NOSE = 5.0  # mm, finger tip radius
 
 
@@ -46,7 +48,7 @@ def plates(name: str) -> LinkPlatesStudy:
     s = study(name)
     tip = finger_for_centre_of_mass(s.linkage.coupler, s.masses.coupler.com)
     arm = PlantingArm(s.linkage, tip, s.crank_speed, name=name)
-    return LinkPlatesStudy(f"{name}_plates", arm, BEARING, SHAFT, PLATE, NOSE)
+    return LinkPlatesStudy(f"{name}_plates", arm, BEARING, SHAFT, PLATE, NOSE, making=PLATES)
 
 
 def family() -> Family:

@@ -38,7 +38,8 @@ def family() -> Family:
         cutter=ShaperCutter(16),
         max_play_deg=LOCKING_PLAY_DEG,
         steps=360,
-        making=(Making(WIDTH, Features(12.0, keyway=False)), Making(WIDTH, Features(12.0, keyway=False))),
+        # C45 quenched and tempered: the gears' material (transplanter.shop.catalogue), our choice
+        making=tuple(Making(WIDTH, Features(12.0, keyway=False), material="C45") for _ in range(2)),
     )
     return Family(
         "picking_dwell",

@@ -49,6 +49,7 @@ from transplanter.families import (
     ToothedPairStudy,
     TrainProof,
 )
+from transplanter.families.machines.planetary_structure import Structure
 from transplanter.geometry.cutter import ShaperCutter
 from transplanter.geometry.proportions import CUTTER_ADDENDUM, RING_RIM
 from transplanter.shop.solids import Features
@@ -82,15 +83,62 @@ PLANET_ADDENDUM = 0.94  # modules
 BACKLASH = 0.193  # mm
 
 # -- the machine ---------------------------------------------------------------------------
-# Planes across the machine, mm from the ring's back face: the ring and planets, the carrier
-# (the planet shafts through it), then the arm plates on the shafts' ends, and the needles bolted
-# on the plates' outer faces. Drawn in one plane an arm plate crosses another arm's needle (the
-# build says by how much), so plates and needles sit in two planes; the needles all share one,
-# as seed 004's objective i has them.
-LAYERS = Layers(gears=(0.0, WIDTH), carrier=(WIDTH, 2 * WIDTH), plates=(26.0, 34.0), needles=(34.0, 40.0))
+# Two faces that move against each other are kept MIN_AXIAL_GAP apart (issue 42: at least 0.5 mm
+# unless a thrust washer or bearing takes it). 1 mm: the worst stack of what sets a face's place —
+# each plate's thickness (±0.1 mm, ground stock), its flatness (0.1 mm) and a shaft's axial play in
+# its deep-groove bearings (≤ 0.2 mm) — takes 0.6 mm of it, the rest keeps soil grit from wedging
+# between a turning face and its neighbour.
+MIN_AXIAL_GAP = 1.0  # mm
+# Planes across the machine, mm from the ring's back face: the ring and planets, the front carrier
+# plate (the planet shafts' front bearings in it) 1 mm in front of them, the arm plates on the
+# shafts' ends 1 mm in front of the carrier, and the needles bolted to the plates' outer faces over
+# 3 mm spacers: each arm plate is held on its shaft by a DIN 471 circlip on its outer face, and the
+# shaft's end stands 1.7 mm out of the plate (the circlip's groove, n_min from the end) — the other
+# arms' needles pass over it, so they keep the minimum gap beyond it (the structure checks it).
+# Drawn in one plane an arm plate crosses another arm's needle (the build says by how much), so
+# plates and needles sit in two planes: a needle passes over the other arms' plates; the needles
+# all share one plane, as seed 004's objective i has them. The structure's planes (the rear carrier
+# plate behind the gears, the ring's spacer and flange, the frame) follow from these
+# (families/machines/planetary_structure.py).
+LAYERS = Layers(
+    gears=(0.0, WIDTH),
+    carrier=(WIDTH + MIN_AXIAL_GAP, 2 * WIDTH + MIN_AXIAL_GAP),
+    plates=(26.0, 34.0),
+    needles=(37.0, 43.0),
+    min_axial_gap=MIN_AXIAL_GAP,
+)
 CLEARANCE = 3.0  # mm, between any two bodies that could meet (moving parts, box, soil)
-ARM_PLATE = Making(width=8.0)  # mm thick, steel; bore, key and needle holes set by the study
-NEEDLE = Making(width=6.0)  # mm thick flat needle, 6 mm wide
+# Materials (transplanter.shop.catalogue). Seed 004 names none; it says only that the non-circular
+# internal gear "can be manufactured by wire cutting or powder metallurgy". Ours: the gears in C45
+# quenched and tempered (a wire-EDM blank that holds its shape when cut), the carrier and the arm
+# plates in S235JR plate, the needles — in wet paddy soil — in X5CrNi18-10 stainless steel.
+GEAR_STEEL, PLATE_STEEL, NEEDLE_STEEL = "C45", "S235JR", "X5CrNi18-10"
+ARM_PLATE = Making(width=8.0, material=PLATE_STEEL)  # mm thick; bore, key and needle holes set by the study
+NEEDLE = Making(width=6.0, material=NEEDLE_STEEL)  # mm thick flat needle, 6 mm wide
+# What holds and drives the train (issue 42), stated: the design load until issue 44 computes the
+# forces — 100 N at the needle tip (a needle pushing a seedling into paddy soil meets a few tens
+# of N; 100 N with the mesh reaction it causes at the planet's least pitch radius, whole on every
+# support, is the conservative figure) — 1 mm running clearance between two pieces of hardware that
+# turn against each other (a sleeve passing a bore circlip, the carrier shaft in the hollow ring
+# shaft), the carrier shaft in the carrier's Ø20 keyed bore, tie tubes at R70 between the planets
+# (their Ø12 17 mm from the planets' tips), a 20 mm gap between the frame plates, 25 mm hub seats for the two
+# prime movers' sprockets, and the seedling box: 280 mm wide (a standard rice mat), 2 mm sheet, the
+# door's lip 25 mm up from the floor (the mat's 20 mm soil block and 5 over it). Plates in S235JR,
+# the ring's spacer and flange in 6061-T6 (light; their tapped holes engage 2 d), shafts in C45.
+STRUCTURE = Structure(
+    needle_force_n=100.0,
+    running_clearance=1.0,
+    carrier_shaft=CARRIER_BORE,
+    tie_radius=70.0,
+    frame_gap=20.0,
+    drive_hub=25.0,
+    box_width=280.0,
+    sheet=2.0,
+    door_lip=25.0,
+    plate_material=PLATE_STEEL,
+    light_material="6061-T6",
+    shaft_material=GEAR_STEEL,
+)
 
 
 def ring_bolt_holes(pair, module: float) -> tuple:
@@ -110,8 +158,13 @@ def published_parts(published) -> tuple:
             ShaperCutter(FINE_CUTTER_TEETH, tip_fillet=0.1),
             teeth=FINE_RING_TEETH,
             making=(
-                Making(width=FACE_WIDTH, wire=WIRE),
-                Making(width=FACE_WIDTH, features=Features(bore=PLANET_SHAFT, keyway=False), wire=WIRE),
+                Making(width=FACE_WIDTH, wire=WIRE, material=GEAR_STEEL),
+                Making(
+                    width=FACE_WIDTH,
+                    features=Features(bore=PLANET_SHAFT, keyway=False),
+                    wire=WIRE,
+                    material=GEAR_STEEL,
+                ),
             ),
             # a finding (see above): no shop files; standard teeth are kept (trimming the
             # ring's tips to the closed-form limit, 0.35 m, loses the contact)
@@ -151,8 +204,8 @@ def made_parts(published) -> tuple:
         ShaperCutter(cut.cutter_teeth),
         teeth=cut.teeth[0],
         making=(
-            Making(width=WIDTH, features=Features(holes=ring_bolt_holes(pair, cut.module))),
-            Making(width=WIDTH, features=Features(bore=PLANET_BORE)),
+            Making(width=WIDTH, features=Features(holes=ring_bolt_holes(pair, cut.module)), material=GEAR_STEEL),
+            Making(width=WIDTH, features=Features(bore=PLANET_BORE), material=GEAR_STEEL),
         ),
         addendum=(cut.ring_addendum, min(cut.pinion_addendum, PLANET_ADDENDUM)),
         trim_ring_tips=False,
@@ -177,9 +230,11 @@ def made_parts(published) -> tuple:
                 ("best with 0.6 m ring tips, m >= 2.5", design_train(best), best_module),
             ),
             must_meet=True,
+            # the planet layout, drawn not cut (quantity 0): the machine cuts its two carrier plates
+            # to it, with bearing seats, tie-screw holes and the shaft's keyed bore
             carrier=(
                 pair.centre_distance + PLANET_BORE / 2 + CARRIER_MARGIN,
-                Making(width=WIDTH, features=planet_shafts),
+                Making(width=WIDTH, features=planet_shafts, material=PLATE_STEEL, quantity=0),
             ),
             front=front_points(made, cut.module),  # module against the smallest objective margin
             min_ring_addendum=RING_ADDENDUM_MIN,
@@ -195,6 +250,7 @@ def made_parts(published) -> tuple:
             clearance=CLEARANCE,
             plate=ARM_PLATE,
             needle=NEEDLE,
+            structure=STRUCTURE,
         ),
     )
 

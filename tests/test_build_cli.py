@@ -301,7 +301,7 @@ from transplanter.shop.solids import Features
 
 def family():
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.15, 2), "external", 2).sized(module=2.0)
-    making = (Making(6.0, Features(bore=8.0), step=False),) * 2  # the STEP is tested on its own
+    making = (Making(6.0, Features(bore=8.0), step=False, material="C45"),) * 2  # the STEP is tested on its own
     study = ToothedPairStudy("pair", pair, ShaperCutter(12, 2.0), sizing.teeth[0], making=making, mesh_steps=36)
     return Family("small", "an elliptical pair", (study,))
 """

@@ -23,7 +23,12 @@ def _plate() -> shapely.Polygon:
 @pytest.fixture(scope="module")
 def made():
     res, files, part = manufacture(
-        "plate", _plate(), shapely.Polygon(), Making(6.0, Features(holes=((0, 0, 8.05), (260, 0, 6.05)))), (), str
+        "plate",
+        _plate(),
+        shapely.Polygon(),
+        Making(6.0, Features(holes=((0, 0, 8.05), (260, 0, 6.05))), material="S235JR"),
+        (),
+        str,
     )
     return res, files, part
 

@@ -110,11 +110,13 @@ def test_wire_violation_names_the_tooth(ellipse_gears):
     gear = ellipse_gears[0]
     # the 0.4 mm cutter tip rolls out root fillets of 0.6-0.7 mm radius (a trochoid is flatter
     # than the tip that makes it): a 1 mm wire reaches them, a 1.4 mm wire does not
-    making = Making(width=5.0, wire=(1.4, 0.05))
+    making = Making(width=5.0, wire=(1.4, 0.05), material="C45")
     with pytest.raises(GeometryError, match=r"g: an inside corner at tooth space \d+ is tighter than the wire radius"):
         manufacture("g", gear.blank, gear.cut, making, (), lambda pt: f"tooth space {gear.nearest_space(pt)}")
-    manufacture("g", gear.blank, gear.cut, Making(width=5.0, wire=(1.0, 0.05)), (), lambda pt: "?")
-    res, files, _ = manufacture("g", gear.blank, gear.cut, Making(width=5.0, step=False), (), lambda pt: "?")
+    manufacture("g", gear.blank, gear.cut, Making(width=5.0, wire=(1.0, 0.05), material="C45"), (), lambda pt: "?")
+    res, files, _ = manufacture(
+        "g", gear.blank, gear.cut, Making(width=5.0, step=False, material="C45"), (), lambda pt: "?"
+    )
     assert set(files) == {"g.stl", "g.dxf"} and res["stl"]["watertight"] and "step" not in res
 
 

@@ -327,7 +327,7 @@ from transplanter.shop.solids import Features
 
 def family():
     pair, sizing = GearPair.from_driver(PitchCurve.ellipse(20.0, 0.15, 2), "external", 2).sized(module=2.0)
-    making = (Making(6.0, Features(bore=8.0), step=False),) * 2  # the STEP is tested on its own
+    making = (Making(6.0, Features(bore=8.0), step=False, material="C45"),) * 2  # the STEP is tested on its own
     cut = ShaperCutter(12, 2.0)
     study = ToothedPairStudy("p", pair, cut, sizing.teeth[0], making=making, mesh_steps=8)
     return Family("small", "an elliptical pair", (study,))
@@ -431,7 +431,7 @@ def _constructors(v, w):
     yield lambda: MotionProgram.rise_return(lift=v, rise=math.radians(120), dwell=w, ret=math.radians(120))
     yield lambda: dxf.DxfPart("p", _BLANK, start_hole=v)
     yield lambda: GearPair.from_driver(PitchCurve.ellipse(40.0, 0.1, 2), "external", 2, centre_distance=v)
-    yield lambda: Making(v, wire=(w, 0.02))
+    yield lambda: Making(v, wire=(w, 0.02), material="C45")
 
 
 @settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow])

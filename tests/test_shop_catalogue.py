@@ -321,7 +321,11 @@ def test_the_report_table_and_the_csv():
     bom = build_bom(made, bought)
     rows = bom.rows()
     assert rows[0] == HEADER and len(rows) == 1 + len(bom.items)
-    assert rows[1][:5] == ["1", "arm", "4", "made", "S235JR"] and rows[1][5] == "7850.0"
+    assert rows[1][:5] == ["1", "arm", "4", "made", "S235JR"] and rows[1][5] == "7850"
     bearing_row = next(r for r in rows if r[6] == "61801-2Z")
+    md = bom.markdown().splitlines()  # the README's table: one line per item, the summary in one line
+    assert len(md) == 2 + len(bom.items) and md[2].startswith("| 1 | arm | 4 | made | S235JR |")
+    assert any("| bought | 61801-2Z |" in line for line in md)
+    assert bom.summary().startswith(f"{len(bom.items)} items: ")
     assert bearing_row[3:5] == ["bought", ""] and bearing_row[7] == "ISO 15" and bearing_row[9] == ""
     assert numbers_from_csv(bom.csv()) == bom.numbers()

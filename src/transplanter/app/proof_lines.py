@@ -42,8 +42,16 @@ def made_line(r: dict) -> str:
     """One re-read shop file's figures (``formats``), in words."""
     if "error" in r:
         return "cannot be checked (see below)"
-    if "bodies" in r:
+    if "bodies" in r and "max_overlap_mm3" in r:
         return f"{r['bodies']} bodies, largest overlap {r['max_overlap_mm3']:.3g} mm³"
+    if "bodies" in r:
+        read = ", ".join(
+            f"{reader} {v['volumes']} volumes, volume off by {v['volume_rel_error']:.3g}, "
+            f"centre {v['centre_off_mm']:.3g} mm"
+            for reader, v in r.items()
+            if isinstance(v, dict) and "volumes" in v
+        )
+        return f"{r['bodies']} bodies placed" + (f" (read by {read})" if read else "")
     return (
         f"{r['solids']} solid, {r['faces']} faces, {'valid' if r['valid'] else 'INVALID'} "
         f"({r.get('checked_by', 'not checked')}), "

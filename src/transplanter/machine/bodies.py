@@ -1,19 +1,21 @@
-"""A machine as bodies in planes, posed over its cycle, and the clearance between every two that
-could meet.
+"""A machine as bodies in planes, posed over its cycle, and every two that move against each other
+judged in 3D.
 
 A **body** is a plane section in its own (DXF) frame, extruded over a z-range across the machine,
 carried by a **link** (fixed, or one of the mechanism's moving members) whose pose — frame origin
 and angle in the machine frame — is a function of the driver angle with a stated speed bound
-(:class:`Link`). Two bodies *could meet* when their z-ranges overlap and no joint or mesh joins
-them; for each such pair :func:`clearances` finds the smallest distance over the cycle with
-:func:`transplanter.proof.clearance.closest_approach` (bounded, not sampled) and judges it against the
-clearance the designer states — except *working* pairs (a needle in the seedling box or in the
-soil: the tool meets its work there), whose figure is recorded but not judged.
-
-:class:`PlanetaryMachine` poses seed 004's train: ring, carrier, N planets and what they carry,
-from the train as rebuilt from the made parts' meshing (:func:`train_rebuild.train_check`), so
-the planets turn as their re-read DXFs let them, not as the design curves say.
-"""
+(:class:`Link`). Two bodies on one link, or on links whose relative pose does not change over the
+cycle, are rigid to each other and never judged. Every other two (:func:`pairs_to_judge`) are
+judged in 3D (:func:`judge_pairs`): their **axial gap** — the gap between their z-ranges,
+negative where the ranges overlap — passes when it is at least the stated minimum
+(``min_axial_gap``); else their in-plane closest approach over the cycle
+(:func:`transplanter.proof.clearance.closest_approach`: bounded, not sampled) must keep the
+clearance the designer states. A pair whose planes are apart by less than the minimum (or touch)
+and whose outlines come within the clearance runs **face to face**: a contact, which fails unless
+the design declares it a **joint** (a mesh, a bearing on its shaft and in its bore, a key in its
+keyway, a washer between two faces: recorded, not judged). *Working* pairs (a needle in the
+seedling box or in the soil: the tool meets its work there) have their figure recorded, not judged.
+:class:`PlanetaryMachine` poses seed 004's train from the made parts' meshing."""
 
 from __future__ import annotations
 
@@ -28,13 +30,30 @@ import shapely
 
 from transplanter.core.errors import SpecError
 from transplanter.design.planetary import DifferentialTrain
-from transplanter.proof.clearance import CLEARANCE_TOL_MM, Posed, closest_approach, posed_sections, reach, relative
+from transplanter.proof.clearance import (
+    CLEARANCE_TOL_MM,
+    Posed,
+    closest_approach,
+    overlap_areas,
+    posed_sections,
+    reach,
+    relative,
+)
 
 __all__ = [
     "Body",
     "Link",
     "Pair",
     "Judged",
+    "Verdict",
+    "AXIAL",
+    "IN_PLANE",
+    "JOINT",
+    "WORKING",
+    "axial_gap",
+    "moving_links",
+    "rigid_pairs",
+    "judge_pairs",
     "PlanetaryMachine",
     "pairs_to_judge",
     "posed",
@@ -88,13 +107,23 @@ class Body:
             raise SpecError.out_of_range(f"{self.name}: z", self.z, "(z0, z1) mm with z0 < z1")
 
 
+#: the kinds of verdict a pair of bodies gets (:func:`judge_pairs`)
+AXIAL, IN_PLANE, JOINT, WORKING = "axial gap", "in-plane", "joint", "working"
+#: two links whose relative pose moves less than this over the cycle (mm, rad) are rigid to each other
+RIGID_TOL = 1e-6
+
+
 @dataclass(frozen=True)
 class Pair:
-    """Two bodies that could meet; ``working``: why the tool meets its work there (not judged)."""
+    """Two bodies that move against each other; ``working``: why the tool meets its work there
+    (recorded, not judged); ``joint``: the designed contact that joins them (recorded, not judged);
+    ``axial_gap``: the gap between their z-ranges, mm (negative: the ranges overlap by that much)."""
 
     a: str
     b: str
     working: str = ""
+    joint: str = ""
+    axial_gap: float = -math.inf
 
 
 @dataclass(frozen=True)
@@ -112,19 +141,145 @@ class Judged:
     exact: bool = True
 
 
-def pairs_to_judge(bodies: list[Body], joined: set[frozenset], working: dict[frozenset, str]) -> list[Pair]:
-    """Every two bodies whose z-ranges overlap and that neither a joint nor a mesh joins
-    (``joined``: pairs of names; two fixed bodies never move against each other and are left
-    out); ``working`` names the pairs where the tool meets its work."""
+@dataclass(frozen=True)
+class Verdict:
+    """A pair judged in 3D (:func:`judge_pairs`): its ``kind`` (:data:`AXIAL`, :data:`IN_PLANE`,
+    :data:`JOINT`, :data:`WORKING`), the ``figure`` it is judged by (mm: the axial gap, or the
+    in-plane closest approach over the cycle), the ``minimum`` it must keep (None: not judged),
+    whether it passed, its in-plane approach where measured, and why it failed."""
+
+    pair: Pair
+    kind: str
+    figure: float
+    minimum: float | None
+    passed: bool
+    judged: Judged | None = None
+    problem: str = ""
+
+
+def axial_gap(a: Body, b: Body) -> float:
+    """The gap between two bodies' z-ranges, mm: negative where they overlap, 0 where their
+    faces touch."""
+    return max(a.z[0], b.z[0]) - min(a.z[1], b.z[1])
+
+
+def moving_links(links: dict[str, Link], theta: np.ndarray) -> Callable[[str, str], bool]:
+    """Whether two links move against each other: their relative pose over ``theta`` (rad)
+    changes by more than :data:`RIGID_TOL` (two links of one name, or two fixed, never do)."""
+    theta = np.asarray(theta, dtype=float)
+    poses = {}
+    known: dict[frozenset, bool] = {}
+
+    def pose(name: str):
+        if name not in poses:
+            at = links[name].pose(theta)
+            poses[name] = tuple(np.broadcast_to(np.asarray(v, dtype=float), theta.shape) for v in at)
+        return poses[name]
+
+    def moving(la: str, lb: str) -> bool:
+        if la == lb:
+            return False
+        key = frozenset((la, lb))
+        if key not in known:
+            x, y, angle = relative(pose(la), pose(lb))
+            turn = np.angle(np.exp(1j * (angle - angle[0])))
+            known[key] = bool(max(np.ptp(x), np.ptp(y), float(np.max(np.abs(turn)))) > RIGID_TOL)
+        return known[key]
+
+    return moving
+
+
+def pairs_to_judge(
+    bodies: list[Body],
+    links: dict[str, Link],
+    joints: dict[frozenset, str],
+    working: dict[frozenset, str],
+    theta: np.ndarray,
+    keep: frozenset = frozenset(),
+) -> list[Pair]:
+    """Every two bodies whose links move against each other over ``theta`` (:func:`moving_links`),
+    every two a joint declares (``joints``: pair of names -> what joins them, e.g. a mesh or a
+    bearing) and those in ``keep`` (judged though rigid to each other: a requirement such as the
+    gearbox above the soil), each with its axial gap; ``working`` names the pairs where the tool
+    meets its work. The others are rigid to each other (:func:`rigid_pairs`)."""
+    moving = moving_links(links, theta)
     out = []
     for i, a in enumerate(bodies):
         for b in bodies[i + 1 :]:
             key = frozenset((a.name, b.name))
-            if key in joined or (a.link == b.link == "fixed"):
-                continue
-            if min(a.z[1], b.z[1]) - max(a.z[0], b.z[0]) > 0:
-                out.append(Pair(a.name, b.name, working.get(key, "")))
+            if key in joints or key in keep or moving(a.link, b.link):
+                out.append(Pair(a.name, b.name, working.get(key, ""), joints.get(key, ""), axial_gap(a, b)))
     return out
+
+
+def rigid_pairs(bodies: list[Body], pairs: list[Pair]) -> list[tuple[str, str]]:
+    """The two bodies of every pair :func:`pairs_to_judge` left out: rigid to each other."""
+    judged = {frozenset((p.a, p.b)) for p in pairs}
+    return [(a.name, b.name) for i, a in enumerate(bodies) for b in bodies[i + 1 :] if {a.name, b.name} not in judged]
+
+
+def judge_pairs(
+    bodies: dict[str, Posed],
+    pairs: list[Pair],
+    theta: np.ndarray,
+    min_axial_gap: float,
+    required: Callable[[Pair], float],
+    tol: float = CLEARANCE_TOL_MM,
+) -> list[Verdict]:
+    """Each pair judged in 3D over the cycle sampled by ``theta`` (rad), ``bodies`` as
+    :func:`posed` gives them: a joint is recorded (its axial gap the figure); a working pair gets
+    its in-plane closest approach, not judged; a pair whose planes are ``min_axial_gap`` (mm) or
+    more apart passes on its axial gap; every other must keep ``required(pair)`` mm in-plane
+    (:func:`clearances`: bounded between the samples). One that does not, with its planes apart
+    by less than the minimum (or touching), runs face to face: its problem names the axial gap
+    and the largest area the two outlines share, where, and over how many positions."""
+    measured = [p for p in pairs if not p.joint and (p.working or p.axial_gap < min_axial_gap)]
+    found = {(j.pair.a, j.pair.b): j for j in clearances(bodies, measured, theta, tol)}
+    out = []
+    for p in pairs:
+        if p.joint:
+            out.append(Verdict(p, JOINT, p.axial_gap, None, True))
+            continue
+        if p.working:
+            j = found[(p.a, p.b)]
+            out.append(Verdict(p, WORKING, j.distance, None, True, j))
+            continue
+        if p.axial_gap >= min_axial_gap:
+            out.append(Verdict(p, AXIAL, p.axial_gap, min_axial_gap, True))
+            continue
+        j, need = found[(p.a, p.b)], required(p)
+        problem = ""
+        if j.distance < need and p.axial_gap >= 0.0:
+            problem = _face_to_face(bodies[p.a], bodies[p.b], p, j, theta, min_axial_gap, need)
+        elif j.distance < need:
+            problem = (
+                f"{p.a} and {p.b} come {j.distance:.4g} mm apart at driver {j.at_deg:.2f} deg "
+                f"(clearance required {need:g} mm; their planes overlap {-p.axial_gap:g} mm)"
+            )
+        out.append(Verdict(p, IN_PLANE, j.distance, need, not problem, j, problem))
+    return out
+
+
+def _face_to_face(a: Posed, b: Posed, p: Pair, j: Judged, theta, min_axial_gap: float, need: float) -> str:
+    """What a face-to-face contact is: the axial gap, the largest area the outlines share on the
+    ``theta`` positions and where, or how near they come when they only approach."""
+    area = overlap_areas(a, b, np.asarray(theta, dtype=float))
+    head = f"{p.a} and {p.b} run face to face: axial gap {p.axial_gap:g} mm (minimum {min_axial_gap:g} mm)"
+    tail = "a contact that is not a declared joint"
+    if area.max() > 0.0:
+        k = int(np.argmax(area))
+        on = area > 0.0
+        deg = np.degrees(np.asarray(theta, dtype=float))
+        where = "every position"
+        if not on.all():  # from the first position after one without overlap, round the cycle
+            order = np.roll(np.arange(len(on)), -int(np.argmin(on)))
+            inside = order[on[order]]
+            where = f"{int(on.sum())} of {len(on)} positions, driver {deg[inside[0]]:.1f} to {deg[inside[-1]]:.1f} deg"
+        return f"{head}, their outlines overlap up to {area[k]:.4g} mm² at driver {deg[k]:.1f} deg (on {where}): {tail}"
+    return (
+        f"{head}, their outlines come {j.distance:.4g} mm apart at driver {j.at_deg:.2f} deg "
+        f"(in-plane clearance {need:g} mm): {tail}"
+    )
 
 
 #: the simpler outlines measured first (``clearance.Posed.levels``), mm from the section
@@ -141,10 +296,22 @@ def posed(bodies: list[Body], links: dict[str, Link]) -> dict[str, Posed]:
         levels = tuple((body.section.simplify(tol), tol) for tol in LEVELS_MM)
         radii = None
         if link.speed == 0.0:
-            radii = (float(shapely.distance(shapely.Point(0.0, 0.0), body.section)), reach(body.section))
+            radii = _radii(body.section, link)
         speed = link.speed + link.turn_rate * reach(body.section)
         out[body.name] = Posed(body.section, link.pose, speed, levels, radii, link.origin_in)
     return out
+
+
+def _radii(section: shapely.Polygon, link: Link) -> tuple[float, float]:
+    """Least and largest distance of ``section`` from the machine's origin over the cycle, its link's
+    origin standing still: measured where it stands if it does not turn; else its radii about its
+    origin widened by that origin's distance from the machine's (the triangle inequality)."""
+    x, y, angle = (float(np.asarray(v, dtype=float).reshape(-1)[0]) for v in link.pose(np.zeros(1)))
+    if link.turn_rate == 0.0:
+        placed = posed_sections(section, x, y, angle)[0]
+        return float(shapely.distance(shapely.Point(0.0, 0.0), placed)), reach(placed)
+    off = math.hypot(x, y)
+    return max(0.0, float(shapely.distance(shapely.Point(0.0, 0.0), section)) - off), reach(section) + off
 
 
 def clearances(
@@ -305,9 +472,8 @@ class PlanetaryMachine:
         tr = self.made
         w, start, a = tr.omega_ratio, tr.carrier_start, tr.pair.centre_distance
         phi = np.linspace(0.0, 2 * math.pi, 20_000, endpoint=False)
-        # the planet turns at -1 + (1 - ω) (dψ/dφ + error slope) per rad of carrier (planetary
-        # docstring); dψ/dφ is the pair's ratio, sampled 20 000 times a turn: between two samples
-        # it cannot exceed them by more than their largest difference
+        # the planet turns at -1 + (1 - ω) (dψ/dφ + error slope) per rad of carrier; dψ/dφ, the pair's
+        # ratio sampled 20 000 times a turn, cannot exceed two samples by more than their largest step
         ratio = np.asarray(tr.pair.ratio(phi), dtype=float)
         between = float(np.max(np.abs(np.diff(np.append(ratio, ratio[0])))))
         rate = float(np.max(np.abs(-1.0 + (1.0 - w) * ratio))) + abs(1.0 - w) * (between + self.error_slope)

@@ -40,7 +40,16 @@ import shapely
 from transplanter.core.errors import GeometryError
 from transplanter.core.tolerances import WIRE_EDM_TOLERANCE
 
-__all__ = ["CLEARANCE_TOL_MM", "Approach", "Posed", "closest_approach", "posed_sections", "reach", "relative"]
+__all__ = [
+    "CLEARANCE_TOL_MM",
+    "Approach",
+    "Posed",
+    "closest_approach",
+    "overlap_areas",
+    "posed_sections",
+    "reach",
+    "relative",
+]
 
 #: how close to the true minimum over the cycle a stated clearance is, mm: the wire-EDM
 #: tolerance the parts are cut to (a finer figure would be noise; a judge re-poses to 0.05 mm)
@@ -143,6 +152,21 @@ def _distances(a: Posed, b: Posed, theta: np.ndarray) -> np.ndarray:
         pose_a = tuple(np.broadcast_to(v, t.shape) for v in a.pose(t))
         pose_b = tuple(np.broadcast_to(v, t.shape) for v in b.pose(t))
         out[start : start + CHUNK] = shapely.distance(b.section, posed_sections(a.section, *relative(pose_a, pose_b)))
+    return out
+
+
+def overlap_areas(a: Posed, b: Posed, theta) -> np.ndarray:
+    """The area (mm²) the two posed sections share in projection at each ``theta`` (rad): how
+    much of their faces two bodies in touching planes would rub."""
+    theta = np.atleast_1d(np.asarray(theta, dtype=float))
+    out = np.empty(len(theta))
+    for start in range(0, len(theta), CHUNK):
+        t = theta[start : start + CHUNK]
+        pose_a = tuple(np.broadcast_to(v, t.shape) for v in a.pose(t))
+        pose_b = tuple(np.broadcast_to(v, t.shape) for v in b.pose(t))
+        out[start : start + CHUNK] = shapely.area(
+            shapely.intersection(b.section, posed_sections(a.section, *relative(pose_a, pose_b)))
+        )
     return out
 
 

@@ -2,7 +2,8 @@
 verdict first, then each part's key figures (:mod:`~transplanter.report.headlines`), plots and
 tables (:mod:`~transplanter.report.tables`: a unit per column)) and its plots
 (:mod:`~transplanter.report.plots`: coupler curves, speed and acceleration, shaking force, trains,
-cams; :mod:`~transplanter.report.gear_plots`: pitch curves, teeth, meshing; both drawn by
+cams; :mod:`~transplanter.report.gear_plots`: pitch curves, teeth, meshing;
+:mod:`~transplanter.report.machine_picture`: a machine assembled, with its balloons; all drawn by
 :mod:`~transplanter.report.figure` to be legible at the width the page shows them).
 
 Takes

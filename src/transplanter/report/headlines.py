@@ -325,8 +325,12 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
         ("smallest gap under the gears' play", _get(m, "under_play", "smallest_mm"), "mm"),
         ("gearbox above the soil", soil.get("min_mm"), "mm"),
         ("gearbox above the soil required", soil.get("required_mm"), "mm"),
+        ("claw into the picked pot", _get(m, "tray", "requirements", "3", "depth_mm"), "mm"),
+        ("its margin to requirement 3", _get(m, "tray", "requirements", "3", "margin_mm"), "mm"),
+        ("nearest to the tray's walls", _get(m, "tray", "requirements", "2", "smallest_clearance_mm"), "mm"),
+        ("its margin to requirement 2", _get(m, "tray", "requirements", "2", "margin_mm"), "mm"),
     )
-    proofs = []
+    proofs = [f"finding: {f}" for f in _list(m.get("findings")) if isinstance(f, str)]
     if gaps:
         passed = all(c.get("pass") for c in gaps)
         proofs.append(

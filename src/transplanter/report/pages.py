@@ -45,6 +45,8 @@ details { margin: 0.4em 0; } summary { cursor: pointer; } p.files { font-size: 0
 _SHOP = (".dxf", ".stl", ".step", ".3mf")
 #: a machine's slider script (``animation.slider_script``): the page gives it a canvas and a range
 SLIDER_SUFFIX = ".slider.js"
+#: a part with more shop files than this counts them in its verdict and folds its list of files
+_LISTED = 12
 _SLIDER = (
     "<div class='machine'><canvas width='560' height='560'></canvas><br>"
     "<input type='range' min='0' max='0' value='0' style='width:SHOWNpx' aria-label='driver angle'>"
@@ -68,6 +70,8 @@ def part_status(rec: dict) -> tuple[str, str]:
         return "withheld", f"withheld as a finding — {shop.removeprefix('withheld: ')}; no shop files were written"
     # obstacles and bought parts are drawn for the machine's judge, not cut
     made = sorted(f for f in rec.get("files", {}) if f.endswith(_SHOP) and not f.endswith(_NOT_CUT))
+    if len(made) > _LISTED:  # a machine's tens of files: counted here, listed under "files"
+        return "built", f"built — {len(made)} shop files (listed under its files)"
     if made:
         return "built", f"built — shop files: {', '.join(made)}"
     return "built", "built — analysis only (no shop files for this kind of part)"
@@ -95,11 +99,20 @@ def _verdicts(manifest: dict) -> str:
     return "<table class='parts'><tr><th>part</th><th>kind</th><th>verdict</th></tr>" + "".join(rows) + "</table>"
 
 
+def _scrubbed(files) -> bool:
+    """A machine whose cycle the page's slider scrubs: its animation (GIF) is linked, not shown."""
+    return any(f.endswith(SLIDER_SUFFIX) for f in files)
+
+
 def _figures(rec: dict) -> str:
     """The part's plots, each a link to itself (a click opens it full size), and its slider."""
     out = []
-    for fname in sorted(rec.get("files", {})):
+    files = rec.get("files", {})
+    scrubbed = _scrubbed(files)
+    for fname in sorted(files):
         name = html.escape(fname)
+        if fname.endswith(".gif") and scrubbed:  # linked under its files
+            continue
         if fname.endswith((".png", ".gif")):
             out.append(f"<a href='{name}'><img src='{name}' alt='{name}'></a>")
         elif fname.endswith(SLIDER_SUFFIX):  # a machine's cycle to scrub (animation.slider_script)
@@ -121,12 +134,14 @@ def _part(part: str, rec: dict) -> list[str]:
     out.append(_figures(rec))
     out.append(grouped("results", rec.get("results", {}), order=list(table_order(str(rec.get("kind"))))))
     out.append(grouped("parameters", rec.get("parameters", {}), folded=True))
-    links = " ".join(
-        f"<a href='{html.escape(f)}'>{html.escape(f)}</a>"
-        for f in sorted(rec.get("files", {}))
-        if not f.endswith((".png", ".svg", ".gif", SLIDER_SUFFIX))
-    )
-    out.append(f"<p class='files'>files: {links}</p>")
+    files = rec.get("files", {})
+    shown = (".png", ".svg", SLIDER_SUFFIX) if _scrubbed(files) else (".png", ".svg", ".gif", SLIDER_SUFFIX)
+    links = " ".join(f"<a href='{html.escape(f)}'>{html.escape(f)}</a>" for f in sorted(files) if not f.endswith(shown))
+    count = links.count("<a ")
+    if count > _LISTED:
+        out.append(f"<details class='files'><summary>files ({count})</summary><p class='files'>{links}</p></details>")
+    else:
+        out.append(f"<p class='files'>files: {links}</p>")
     return out
 
 

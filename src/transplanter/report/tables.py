@@ -255,6 +255,9 @@ class Section:
                 continue
             elif isinstance(v, dict) and _inline(v):
                 self.rows.append((full, value(v), u))
+            elif isinstance(v, dict) and _is_matrix(v):  # a table given as columns and rows (a BOM)
+                self.tables.append((full, _matrix(v)))
+                self.add(full, {k: x for k, x in v.items() if k not in ("columns", "rows")}, u, depth + 1)
             elif isinstance(v, dict) and depth < 4:
                 said = {k: x for k, x in v.items() if isinstance(x, str)}
                 if len(said) > 1 and any(map(_sentence, said.values())):  # readings in words: their own table
@@ -327,12 +330,20 @@ class Section:
     def html(self, css: str = "") -> str:
         """The rows' table, the sentences, the further tables (each under its title)."""
         out = [table(self.rows, css)]
-        out += [f"<p class='note'><b>{html.escape(n)}</b>: {_text(t)}</p>" for n, t in self.notes]
+        out += [_note(n, t) for n, t in self.notes]
         out += [(f"<h5>{html.escape(t)}</h5>" if t else "") + body for t, body in self.tables]
         return "".join(out)
 
     def size(self) -> int:
         return len(self.rows) + len(self.notes) + sum(body.count("<tr>") for _, body in self.tables)
+
+
+def _note(name: str, t) -> str:
+    """A sentence under its name; a list longer than ``OPEN_ROWS`` (an assembly order) folded."""
+    if isinstance(t, list) and len(t) > OPEN_ROWS:
+        head = f"<summary><b>{html.escape(name)}</b> ({len(t)} lines)</summary>"
+        return f"<details class='note'>{head}{_text(t)}</details>"
+    return f"<p class='note'><b>{html.escape(name)}</b>: {_text(t)}</p>"
 
 
 def _text(t) -> str:

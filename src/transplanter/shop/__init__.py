@@ -9,7 +9,10 @@ verifies it (:mod:`~transplanter.shop.formats`); a family's files as one atomic 
 (:mod:`~transplanter.shop.export`). What a shop buys by name -- materials, bearings, bushes, keys,
 circlips, screws, fits, each row with its standard and source -- in
 :mod:`~transplanter.shop.catalogue`, and a machine's bill of materials (made and bought parts,
-stable item numbers, one to one with the files) in :mod:`~transplanter.shop.bom`.
+stable item numbers, one to one with the files) in :mod:`~transplanter.shop.bom`; a machine's
+assembly STEP, every body a named solid at its place (:mod:`~transplanter.shop.assembly_step`), read
+back by OCP and gmsh (:mod:`~transplanter.shop.assembly_read`), and its assembly drawing with
+balloons (:mod:`~transplanter.shop.assembly_drawing`).
 
 Takes
     outlines (shapely polygons, mm) from :mod:`transplanter.geometry` and the studies.

@@ -222,13 +222,33 @@ class Bom:
         return csv_bytes(list(HEADER), [self._cells(i) for i in self.items])
 
     def rows(self) -> list[list[str]]:
-        """The report's table: ``HEADER`` then one row of text per item (masses to 4 digits)."""
+        """The report's table: ``HEADER`` then one row of text per item (masses to 4 digits, densities
+        as ``:g``)."""
         out = [list(HEADER)]
         for i in self.items:
             cells = self._cells(i)
             cells[8] = f"{i.mass_kg:.4g}"
+            cells[5] = f"{cells[5]:g}" if i.made else ""
             out.append(["" if c == "" else str(c) for c in cells])
         return out
+
+
+    def markdown(self) -> str:
+        """The list as a Markdown table (the README's): item, part, quantity, made or bought, the
+        material or the bought part's designation, mass each in g; and a line that sums it up
+        (:meth:`summary`)."""
+        lines = ["| item | part | qty | | material or designation | g each |", "|---:|---|---:|---|---|---:|"]
+        for i in self.items:
+            what = (i.material, "made") if i.made else (i.designation, "bought")
+            lines.append(f"| {i.item} | {i.name} | {i.quantity} | {what[1]} | {what[0]} | {1000 * i.mass_kg:.4g} |")
+        return "\n".join(lines)
+
+    def summary(self) -> str:
+        """``N items: M made, K bought, X kg`` — the list in one line."""
+        made = sum(i.made for i in self.items)
+        return (
+            f"{len(self.items)} items: {made} made, {len(self.items) - made} bought, {self.total_mass_kg:.3g} kg"
+        )
 
 
 def _order_made(p: MadePart):

@@ -7,7 +7,7 @@ into bytes and reads them back the way the shop's software would:
 ========  ==============================  =======================================  =========================
 format    written from                    read back as                             verified
 ========  ==============================  =======================================  =========================
-DXF       the section's one-sided arcs    the section (CUT contours, arcs exact)   within 1 µm, never outside
+DXF       the section's one-sided arcs    the section (outline layer, arcs exact)  within 1 µm, never outside
 STL       the solid's canonical mesh      the mid-plane section / the mesh         watertight, volume 1e-6
 STEP      the same arcs, extruded (OCC)   the OCC solid                            valid solid, volume 1e-6
 CSV       a contour's points              the section (outline or profile)         —
@@ -16,7 +16,10 @@ CSV       a contour's points              the section (outline or profile)      
 
 :func:`section_of` reads any file that describes a section (DXF, STL, outline or profile CSV)
 by its name; the meshing and follower checks read every source through it. Every reader turns
-a damaged file into :class:`~transplanter.core.errors.ExportError` naming it.
+a damaged file into :class:`~transplanter.core.errors.ExportError` naming it. A DXF's outline is
+on the layer that says what the drawing is (``MadePart.layer``: ``CUT`` for a part to cut,
+``REFERENCE`` or ``BOUGHT`` otherwise, :data:`~transplanter.shop.dxf.OUTLINES`); the readers take
+it from there, or from the layer they name.
 
 **STEP verification.** The build checks the solid it writes (one solid, its volume against the
 arcs' exact area × width); ``transplanter check`` and the tests re-read the file and check it
@@ -59,13 +62,18 @@ __all__ = [
     "split_unreadable",
     "placement",
     "ONE_SIDED_MM",
+    "CUT",
+    "REFERENCE",
+    "BOUGHT",
 ]
 
 
 @dataclass(frozen=True)
 class MadePart:
     """A prismatic part as made: ``section`` × ``width`` (mm), its manifold3d ``solid``; the DXF's
-    ``notes``, ``marks`` ``(x, y, text)`` and open ``paths`` (n, 2) for its ANNOTATION layer."""
+    ``notes``, ``marks`` ``(x, y, text)`` and open ``paths`` (n, 2) for its ANNOTATION layer, and the
+    ``layer`` of its outline: what the drawing is (``dxf.CUT``, a part to cut; ``dxf.REFERENCE``, an
+    outline not to cut; ``dxf.BOUGHT``, a bought part)."""
 
     stem: str
     section: shapely.Polygon
@@ -74,6 +82,7 @@ class MadePart:
     notes: tuple[str, ...] = ()
     marks: tuple[tuple[float, float, str], ...] = ()
     paths: tuple[np.ndarray, ...] = field(default=(), compare=False)
+    layer: str = dxf.CUT
 
     @cached_property
     def arcs(self) -> list[tuple[np.ndarray, bool]]:
@@ -124,23 +133,26 @@ class Dxf:
         return ".dxf" if self.version == "R2000" else f".{self.version}.dxf"
 
     def write(self, part: MadePart) -> bytes:
-        dxf_part = dxf.DxfPart(part.stem, part.section, part.notes, marks=part.marks, paths=part.paths)
+        dxf_part = dxf.DxfPart(
+            part.stem, part.section, part.notes, marks=part.marks, paths=part.paths, layer=part.layer
+        )
         return dxf.dxf_bytes(dxf_part, self.version, arcs=part.arcs)
 
-    def read(self, data: bytes) -> shapely.Polygon:
-        return dxf.read_section(data)
+    def read(self, data: bytes, layer: str | None = None) -> shapely.Polygon:
+        """The section of the outline on ``layer`` (None: the layer the drawing has it on)."""
+        return dxf.read_section(data, layer=layer)
 
-    def contours(self, data: bytes, flatten: float = 1e-5) -> list[np.ndarray]:
-        """The CUT contours as points, each arc sampled to ``flatten`` mm (``dxf.read_contours``)."""
-        return dxf.read_contours(data, flatten)
+    def contours(self, data: bytes, flatten: float = 1e-5, layer: str | None = None) -> list[np.ndarray]:
+        """The outline's contours as points, each arc sampled to ``flatten`` mm (``dxf.read_contours``)."""
+        return dxf.read_contours(data, flatten, layer)
 
-    def arcs(self, data: bytes) -> list[tuple[np.ndarray, bool]]:
-        """The CUT contours as bulge vertices ``(n, 3)``, largest first, the others holes."""
-        return dxf.bulge_contours(data)
+    def arcs(self, data: bytes, layer: str | None = None) -> list[tuple[np.ndarray, bool]]:
+        """The outline's contours as bulge vertices ``(n, 3)``, largest first, the others holes."""
+        return dxf.bulge_contours(data, layer)
 
-    def arc_centres(self, data: bytes) -> list[np.ndarray]:
-        """Every arc of the CUT contours, per contour: ``(n, 4)`` centre x, y, radius, sweep (rad)."""
-        return dxf.arc_centres(data)
+    def arc_centres(self, data: bytes, layer: str | None = None) -> list[np.ndarray]:
+        """Every arc of the outline's contours, per contour: ``(n, 4)`` centre x, y, radius, sweep (rad)."""
+        return dxf.arc_centres(data, layer)
 
     def assembly(self, name: str, parts: list[tuple[str, bytes, tuple[float, float, float]]], notes=()) -> bytes:
         """An assembly drawing of parts read from their DXF bytes, each placed at ``(x, y, angle_rad)``
@@ -148,9 +160,10 @@ class Dxf:
         return dxf.assembly_bytes(name, parts, tuple(notes))
 
     def verify(self, part: MadePart, data: bytes) -> dict:
-        """Re-read contours simple and closed, within ``DXF_READBACK_MM`` of the section and never
-        outside it by more than ``ONE_SIDED_MM`` (the arc fit may remove material, never add it)."""
-        back = dxf.read_contours(data, READBACK_FLATTEN_MM)
+        """Re-read contours — on the part's own layer — simple and closed, within ``DXF_READBACK_MM``
+        of the section and never outside it by more than ``ONE_SIDED_MM`` (the arc fit may remove
+        material, never add it)."""
+        back = dxf.read_contours(data, READBACK_FLATTEN_MM, part.layer)
         crossing = [shapely.is_valid_reason(shapely.Polygon(c)) for c in back if not shapely.Polygon(c).is_valid]
         if crossing:
             raise GeometryError(
@@ -325,18 +338,25 @@ class ThreeMf:
 
 DXF, STL, STEP, CSV, THREEMF = Dxf(), Stl(), Step(), Csv(), ThreeMf()
 
+#: the DXF layers a made part's outline may be on (``MadePart.layer``): a part to cut, an outline
+#: not to cut, a bought part (:data:`transplanter.shop.dxf.OUTLINES`)
+CUT, REFERENCE, BOUGHT = dxf.CUT, dxf.REFERENCE, dxf.BOUGHT
+
 #: 4×4 placement of a part in an assembly: turned by ``angle`` (rad) about z, then moved (mm)
 placement = threemf.placement
 
 
-def section_of(name: str, data: bytes, internal: bool = False) -> shapely.Polygon:
+def section_of(name: str, data: bytes, internal: bool = False, layer: str | None = None) -> shapely.Polygon:
     """The part section a file describes, read by the format its name says (``.dxf``, ``.stl``,
-    ``.csv``); ``internal`` for a ring gear's outline CSV. ExportError naming the file if it
+    ``.csv``); ``internal`` for a ring gear's outline CSV; a DXF's outline from ``layer`` (None:
+    the layer the drawing has it on, ``dxf.outline_layer``). ExportError naming the file if it
     cannot be read."""
     fmt = next((f for f in (DXF, STL, CSV) if name.endswith(f.suffix)), None)
     if fmt is None:
         raise ExportError(f"{name}: no section reader for this file type (.dxf, .stl, .csv)")
-    return read_shop_file(name, data, lambda d: fmt.read(d, internal) if fmt is CSV else fmt.read(d))
+    if fmt is CSV:
+        return read_shop_file(name, data, lambda d: fmt.read(d, internal))
+    return read_shop_file(name, data, lambda d: fmt.read(d, layer) if fmt is DXF else fmt.read(d))
 
 
 def read_shop_file(name: str, data: bytes, reader):

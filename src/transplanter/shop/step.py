@@ -31,6 +31,7 @@ Examples
 
 from __future__ import annotations
 
+import cmath
 import contextlib
 import ctypes
 import ctypes.util
@@ -206,6 +207,17 @@ def prism(contours: list[tuple[np.ndarray, bool]], width: float):
     return occ.BRepPrimAPI_MakePrism(face.Face(), occ.gp_Vec(0.0, 0.0, float(width))).Shape()
 
 
+def _subdivided(verts: np.ndarray, n: int) -> np.ndarray:
+    """The closed contour ``verts`` (bulge vertices), each line or arc split into ``n`` alike: the same curve."""
+    out = []
+    for k, (x0, y0, b) in enumerate(verts):
+        p0, p1, t = complex(x0, y0), complex(*verts[(k + 1) % len(verts), :2]), 4.0 * math.atan(b)
+        c = (p0 + p1) / 2 + 1j * (p1 - p0) / 2 / math.tan(t / 2) if t else 0j  # the arc's centre
+        pts = [c + (p0 - c) * cmath.exp(1j * t * j / n) if t else p0 + (p1 - p0) * j / n for j in range(n)]
+        out += [(p.real, p.imag, math.tan(t / (4 * n))) for p in pts]
+    return np.array(out, dtype=float)
+
+
 def _cuts(outer, inner, inner_ring, others, count: int) -> list[tuple[int, int]] | None:
     """``count`` cuts across the material, each ``(inner vertex, outer vertex)``: a straight line
     from a vertex of the largest hole ``inner`` (bulge vertices; ``inner_ring`` its points) to the
@@ -282,6 +294,8 @@ def _sectors(occ, contours, width: float):
     # the other holes, each to go into the sector that holds it
     rest = [(h, shapely.Polygon(bulge_points(h, 1e-3))) for h in holes if h is not inner]
     count = max(2, round(sum(len(v) for v, _ in contours) / SECTOR_EDGES))
+    if len(inner) < 4 * count:  # a plain bore (a circle of a few arcs): room for a cut at each target
+        inner = _subdivided(inner, -(-4 * count // len(inner)))
     cuts = _cuts(outer, inner, bulge_points(inner, 1e-3), [p for _, p in rest], count)
     if cuts is None:
         return None

@@ -108,8 +108,24 @@ def _reread(files: dict[str, bytes]) -> tuple[dict, list[str]]:
                 formats.section_of(fname, data)
                 read += 1
             except ExportError as exc:
-                problems.append(str(exc))
+                if fname.endswith(".dxf") and _turned(fname, data):  # a lathe's drawing: no section to cut
+                    read += 1
+                else:
+                    problems.append(str(exc))
     return {"shop_files_reread": read}, problems
+
+
+def _turned(fname: str, data: bytes) -> bool:
+    """Whether ``data`` is a turned part's drawing that re-reads as a part
+    (:func:`transplanter.machine.hardware.read_turned`: its side view on layer ``TURN``)."""
+    from transplanter.core.errors import GeometryError
+    from transplanter.machine.hardware import read_turned
+
+    try:
+        read_turned(data, fname)
+    except (GeometryError, SpecError):
+        return False
+    return True
 
 
 def check_family(

@@ -9,7 +9,7 @@ import numpy as np
 from transplanter.core.errors import ExportError, GeometryError, SpecError, check_int, check_number
 from transplanter.core.precision import rounded, significant
 from transplanter.core.tolerances import WIRE_EDM_TOLERANCE
-from transplanter.shop import formats, machining, solids
+from transplanter.shop import catalogue, formats, machining, solids
 
 __all__ = ["Making", "manufacture", "step_file", "assembly_file", "check_shop_files"]
 
@@ -22,8 +22,16 @@ MIN_FACE_WIDTH_MM = 0.1
 @dataclass(frozen=True)
 class Making:
     """How a part is made: face width (mm), holes, wire (diameter, spark gap, mm), DXF versions,
-    whether a STEP is written, how many to make and the contour tolerance (± mm) the shop holds —
-    the last two are stated in the part's notes."""
+    whether a STEP is written, how many to make, the contour tolerance (± mm) the shop holds and
+    the material — the last three are stated in the part's notes and recorded in its results.
+
+    ``material`` has no default: every part names its own, by the short name of the catalogue
+    (``transplanter.shop.catalogue.material``, e.g. ``"C45"``, ``"S235JR"``, ``"6061-T6"``),
+    so a drawing never carries a material nobody chose; a Making without one, or with a name the
+    catalogue does not hold, is a :class:`~transplanter.core.errors.SpecError` naming ``material``.
+    A part with ``quantity`` 0 is drawn, not cut: its outline goes on the DXF's ``REFERENCE``
+    layer, not on ``CUT``.
+    """
 
     width: float
     features: solids.Features = field(default_factory=solids.Features)
@@ -36,6 +44,8 @@ class Making:
     quantity: int = 1
     #: contour tolerance the shop holds, ± mm normal to the surface
     tolerance: float = WIRE_EDM_TOLERANCE
+    #: the material, by its catalogue name (required: see above)
+    material: str = ""
 
     def __post_init__(self) -> None:
         check_number("face width", self.width, MIN_FACE_WIDTH_MM, 10_000.0, unit="mm")
@@ -52,6 +62,18 @@ class Making:
         for v in self.dxf_versions:
             if v not in ("R2000", "R12"):
                 raise SpecError.out_of_range("dxf_versions", self.dxf_versions, "'R2000' and/or 'R12'")
+        if self.material == "":
+            raise SpecError(
+                "material: a made part names its material (Making(..., material=...)), one of "
+                f"{', '.join(sorted(catalogue.materials()))} (transplanter.shop.catalogue)"
+            )
+        catalogue.material(self.material)
+
+    @property
+    def layer(self) -> str:
+        """The DXF layer of the part's outline: ``CUT`` if it is to be made, ``REFERENCE`` if it is
+        only drawn (quantity 0)."""
+        return formats.CUT if self.quantity else formats.REFERENCE
 
 
 def manufacture(
@@ -68,12 +90,20 @@ def manufacture(
     (:mod:`transplanter.shop.formats`): the STL, every DXF version, the STEP.
 
     ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12"); ``marks`` and
-    ``paths`` go to the DXF's ANNOTATION layer (``formats.MadePart``); the notes get the quantity and
-    the contour tolerance from ``making``. Returns the results, the files by name and the
-    :class:`~transplanter.shop.formats.MadePart` (for assemblies).
+    ``paths`` go to the DXF's ANNOTATION layer (``formats.MadePart``); the notes get the material
+    (its catalogue note), the quantity with the plate's thickness (``making.width``: what the shop
+    buys the stock as) and the contour tolerance from ``making``, and the outline
+    goes on ``making.layer`` (CUT, or REFERENCE for a drawing not to cut). Returns the results (with
+    the files' stem, the material, quantity and outline layer, for a bill of materials), the files
+    by name and the :class:`~transplanter.shop.formats.MadePart` (for assemblies).
     """
     made = f"make {making.quantity}" if making.quantity else "do not cut this drawing as it is (see the notes above)"
-    notes = (*notes, f"{made}; contour tolerance +/-{making.tolerance:g} mm")
+    notes = (
+        *notes,
+        catalogue.material(making.material).note,
+        f"{made}{f' from {making.width:g} mm plate' if making.quantity else ''}; contour tolerance "
+        f"+/-{making.tolerance:g} mm",
+    )
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
     bad = machining.wire_violations(section, wire_r)
@@ -86,8 +116,14 @@ def manufacture(
             f"{worst.area:.3g} mm² uncut here); use a finer wire or a larger cutter tip fillet"
         )
     solid = solids.part_solid(blank, cut, making.features, making.width)
-    made = formats.MadePart(stem, section, solid, making.width, tuple(notes), tuple(marks), tuple(paths))
+    made = formats.MadePart(
+        stem, section, solid, making.width, tuple(notes), tuple(marks), tuple(paths), layer=making.layer
+    )
     results: dict = {
+        "stem": stem,
+        "material": making.material,
+        "quantity": making.quantity,
+        "dxf_layer": making.layer,
         "section_area_mm2": rounded(section.area, 6),
         "solid_volume_mm3": rounded(solid.volume(), 6),
         "volume_rel_error": significant(abs(solid.volume() / made.volume - 1)),

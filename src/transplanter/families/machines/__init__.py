@@ -3,8 +3,10 @@ posed from its pair's files in :mod:`~.planetary_posing`, judged in :mod:`~.plan
 seed 002's double-carrier machine (:mod:`~.carrier_machine`, posed in :mod:`~.carrier_posing`,
 judged in :mod:`~.carrier_judging`) with the parts it makes (:mod:`~.carrier_making`); what both
 share: the planes their bodies sit in (:mod:`~.layers`), what they judge and record alike — a
-tool's phases and work depth, the motion table and pictures (:mod:`~.judging`) — and what every
-machine study writes and reads (:mod:`~.record`).
+tool's phases and work depth, the motion table and pictures (:mod:`~.judging`) — what every
+machine study writes and reads (:mod:`~.record`), and what a shop assembles it from: the bill of
+materials (:mod:`~.bill`), the bought parts its drawings name (:mod:`~.bought`), the assembly STEP,
+the assembly drawing with balloons and its picture (:mod:`~.assembly`).
 
 May import
     the other family packages (builder, pairs, mechanisms) and the stations below the families.

@@ -12,17 +12,31 @@ DXFs and the meshing its proof measured on them, ``<pair>.dxf_meshing.csv``) and
 2. makes what the earlier parts do not: carrier 1 and carrier 2 (plates around their shafts),
    the follower lever (the roller is a bought 625 ball bearing, drawn for the judge), the sector
    gears 7 and 8 (the sector pair's gears kept over the swing they mesh in), the arm (link 3) and
-   its claw — DXF, STL, STEP and notes each; and the soil as an obstacle;
+   its claw — DXF, STL, STEP and notes each; what holds and drives them
+   (:mod:`~transplanter.families.machines.carrier_structure`: the frame, the fixed shaft, the drive
+   tube and carrier 1's hub, both carriers' front plates, every gear shaft turned and held in two
+   bearings, spacers, standoffs and posts; the bearings, bushes, rings, keys and screws bought);
+   and the soil and seed 002's pot tray (:mod:`transplanter.machine.tray`) as obstacles;
 3. stacks the bodies in the planes the part script states
    (:class:`~transplanter.families.machines.layers.CarrierLayers`);
-4. judges every two bodies whose planes overlap and that no mesh, joint or bolt joins, over the
-   cycle, bounded between samples (:mod:`transplanter.proof.clearance`): against the clearance stated,
-   and every gearbox body (carriers and all they carry) against the soil by seed 002's
-   requirement 7 (≥ 40 mm); the claw in the soil is its work (only its tines may enter);
+4. judges every two bodies that move against each other in 3D over the cycle
+   (:func:`transplanter.machine.bodies.judge_pairs`): planes at least ``layers.min_axial_gap``
+   apart pass on that gap, the others must keep the clearance stated in-plane, bounded between
+   samples (:mod:`transplanter.proof.clearance`); the declared joints (meshes, the roller on the cam
+   and on its pin, the claw's bolts) are recorded; every gearbox body (carriers and all they carry)
+   is held above the soil by seed 002's requirement 7 (≥ 40 mm); the claw in the soil is its work
+   (only its tines may enter); the follower pivot's shaft end keeps its axial gap to the cam; the
+   structure's hardware keeps its running clearance in the bores it passes; every body against the
+   pot tray, the claw's grip in the picked pot its work, seed 002's requirements 2 and 3 recorded
+   with their margins (``results.machine.tray``; a requirement the design does not meet is a
+   finding, ``results.machine.findings``, not a failed part: the tray is the seedling box's);
 5. checks that the claw, posed from the made parts, passes the synthesised four poses (Table 1
    with link 3's attitudes) within the tolerance stated (``pose_tolerance``);
 6. writes the motion table, an animated GIF, the report's slider, a 3MF of the made parts at the
-   start and ``results.machine`` (the data contract a judge re-poses the DXF bodies from).
+   start; the bill of materials, the assembly STEP, the assembly drawing with balloons and its
+   picture (:mod:`~transplanter.families.machines.assembly`, the bought parts:
+   :func:`~transplanter.families.machines.carrier_bodies.assembly_inputs`); and ``results.machine`` (the
+   data contract a judge re-poses the DXF bodies from).
 
 **The soil** (the paper gives no soil line for its Table 1 frame): a rotary planter plants where
 its tip reaches farthest from the carrier axis, so the machine frame is turned to put that
@@ -38,7 +52,6 @@ record.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -47,13 +60,16 @@ from transplanter.core.errors import GeometryError, SpecError, check_number
 from transplanter.design.linkage.open_chain import OpenChain3R
 from transplanter.families.builder.making import Making, check_shop_files
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
-from transplanter.families.machines import carrier_judging, carrier_making, carrier_posing
+from transplanter.families.machines import carrier_bodies, carrier_judging, carrier_making, carrier_posing
+from transplanter.families.machines.assembly import check_documents, machine_documents
 from transplanter.families.machines.carrier_making import BOUGHT, CarrierPartsStudy
+from transplanter.families.machines.carrier_structure import CarrierStructure
 from transplanter.families.machines.layers import CarrierLayers
-from transplanter.families.machines.record import OBSTACLE, judged_again, obstacle_file, start_assembly
+from transplanter.families.machines.record import judged_again, obstacle_file, start_assembly
 from transplanter.families.mechanisms.cams import CamStudy
 from transplanter.families.pairs.toothed import ToothedPairStudy
 from transplanter.machine.carriers import DoubleCarrierMachine
+from transplanter.machine.tray import PotTray
 from transplanter.shop.export import json_bytes
 
 __all__ = ["CarrierLayers", "DoubleCarrierMachineStudy", "CarrierPartsStudy", "BOUGHT", "GEARBOX_ABOVE_SOIL_MM"]
@@ -97,8 +113,19 @@ class DoubleCarrierMachineStudy(StudyDefaults):
     #: the name of the part that makes the carriers, lever, sectors, arm and claw
     #: (:meth:`parts_study`; the machine is posed and judged from its files)
     parts: str = "carriers"
+    #: what holds and drives the machine (:mod:`~transplanter.families.machines.carrier_structure`)
+    structure: CarrierStructure | None = None
+    #: seed 002's pot tray the claw picks from (None: no tray judged), and how deep the claw must
+    #: enter the picked pot (seed 002 requirement 3), mm
+    tray: PotTray | None = None
+    pot_depth: float = 30.0
 
     def __post_init__(self) -> None:
+        if not isinstance(self.structure, CarrierStructure):
+            raise SpecError(f"{self.name}: structure must be a CarrierStructure (what holds and drives the machine)")
+        if self.tray is not None and not isinstance(self.tray, PotTray):
+            raise SpecError(f"{self.name}: tray must be a PotTray or None")
+        check_number("pot_depth", self.pot_depth, 0.0, 1000.0, low_open=True, unit="mm")
         check_number("clearance", self.clearance, 0.0, 1000.0, unit="mm")
         check_number("planting_depth", self.planting_depth, 0.0, 500.0, unit="mm")
         check_number("gearbox_above_soil", self.gearbox_above_soil, 0.0, 1000.0, unit="mm")
@@ -160,7 +187,9 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         machine, posed_from = carrier_posing.made_machine(self, used)
         files: dict[str, bytes] = {}
         results: dict = {}
-        files.update(obstacle_file(self.name, "soil", carrier_posing.soil(self), self.layers.span))
+        files.update(obstacle_file(self.name, "soil", carrier_posing.soil(self), carrier_posing.span(self)))
+        if self.tray is not None:
+            files.update(carrier_posing.tray_files(self))
         judged = carrier_judging.judge(self, {**used, **files}, machine)
         record = judged["record"]
         record["posed_from"] = {
@@ -171,7 +200,14 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         record["keys_deg"] = carrier_making.shaft_keys(self.design)
         results["machine"] = record
         files.update(judged["files"])
-        results["assembly"], more = start_assembly(self.name, judged["bodies"], judged["links"], {})
+        # the 3MF of the made plates and gears; the bill of materials, the assembly STEP and drawing
+        # with balloons, the picture (the structure's turned parts by their solids, its bought parts)
+        shop = {**used, **files}
+        shown, bought, made = carrier_bodies.assembly_inputs(self, judged, shop)
+        results["assembly"], more = start_assembly(self.name, shown, judged["links"], {})
+        files.update(more)
+        documents, more = machine_documents(self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made)
+        results.update(documents)
         files.update(more)
         files[f"{self.name}.machine.json"] = json_bytes(record)
         if judged["problems"]:
@@ -181,7 +217,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             "gearbox_above_soil_mm": self.gearbox_above_soil,
             "planting_depth_mm": self.planting_depth,
             "pose_tolerance": {"position_mm": self.pose_tolerance[0], "attitude_deg": self.pose_tolerance[1]},
-            "layers_mm": {k: list(v) for k, v in dataclasses.asdict(self.layers).items()},
+            "layers_mm": self.layers.record(),
             "claw_mm": {"at": self.claw_at, "width": self.claw_width, "tab": self.claw_tab},
             "uses": list(self.uses),
         }
@@ -197,8 +233,10 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         )
         problems = list(judged["problems"]) + again
         # (the parts' STEPs are the parts study's to re-read; the machine's 3MF is this one's)
-        made, more = check_shop_files(
-            files, {}, (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if not b.dxf.endswith(OBSTACLE)])
-        )
+        shown, bought, turned = carrier_bodies.assembly_inputs(self, judged, files)
+        made, more = check_shop_files(files, {}, (f"{self.name}.assembly.3mf", [b.name for b in shown]))
         problems += more
-        return Checked({"clearances": summary, "made": made}, problems)
+        # the bill of materials against the made files, the assembly STEP re-read
+        documents, more = check_documents(self.name, judged["bodies"], judged["links"], {}, files, bought, made=turned)
+        problems += more
+        return Checked({"clearances": summary, "made": {**made, **documents}}, problems)

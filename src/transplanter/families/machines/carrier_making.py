@@ -17,11 +17,15 @@ from transplanter.core.errors import GeometryError
 from transplanter.core.precision import rounded
 from transplanter.families.builder.making import check_shop_files, manufacture
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
+from transplanter.families.machines import carrier_bodies, carrier_plates, carrier_structure
+from transplanter.families.machines.record import BOUGHT
 from transplanter.machine import carrier_parts
 from transplanter.machine.arm_parts import CLEARANCE_M4, TAP_DRILL_M4
 from transplanter.machine.bodies import MOTION_POSITIONS
 from transplanter.machine.carriers import DoubleCarrierMachine
+from transplanter.machine.hardware import read_turned
 from transplanter.shop import formats, solids
+from transplanter.shop.export import json_bytes
 
 __all__ = [
     "CarrierPartsStudy",
@@ -36,16 +40,11 @@ __all__ = [
     "ROLLER_WIDTH_MM",
 ]
 
-#: the suffix of a bought part's section (drawn for the judge, not cut)
-BOUGHT = ".bought.dxf"
 #: the roller: a 625 deep-groove ball bearing (5 x 16 x 5 mm) on a 5 mm pin
 ROLLER_PIN_MM = 5.0
 ROLLER_WIDTH_MM = 5.0
-#: shaft and bore diameters, mm: the gears' keyed shafts, the frame shaft through carrier 1
+#: the gears' keyed shafts, mm
 SHAFT_MM = 12.0
-FRAME_SHAFT_MM = 30.0
-#: sector 8's two bolts to carrier 2 sit on this radius about A_c (the hubs are 20 mm), mm
-BOLT_CIRCLE_MM = 13.0
 
 
 #: the arm's hub at Q and its boss where the claw is bolted, radii (mm)
@@ -67,28 +66,19 @@ def roller_z(layers) -> tuple[float, float]:
     return mid - ROLLER_WIDTH_MM / 2, mid + ROLLER_WIDTH_MM / 2
 
 
-def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) -> dict[str, tuple]:
+def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes], hw=None) -> dict[str, tuple]:
     """Each part of the machine ``study`` (a ``DoubleCarrierMachineStudy``) drawn from ``machine``
-    (as designed) and the sector pair's DXFs in ``used``: ``{part: (section, holes, making,
-    notes)}``."""
-    lay = machine.layout
-    l1, l2, l3 = study.chain.link_lengths
+    (as designed) and the sector pair's DXFs in ``used``, with the structure ``hw`` laid out
+    (:func:`~transplanter.families.machines.carrier_structure.hardware`; default: laid out here):
+    ``{part: (section, holes, making, notes)}``."""
+    l3 = study.chain.link_lengths[2]
     f = study.cam.follower
-    L = study.layers
+    L, S = study.layers, study.structure
+    hw = hw if hw is not None else carrier_structure.hardware(study, machine)
     shaft = (SHAFT_MM / 2) + 8.0  # boss radius around a 12 mm shaft
-    c1 = carrier_parts.plate([(0.0, 0.0, 26.0), (*lay.s3, shaft), (l1, 0.0, shaft), (*lay.pivot, shaft)])
-    c1_holes = ((0.0, 0.0, FRAME_SHAFT_MM), (*lay.s3, SHAFT_MM), (l1, 0.0, SHAFT_MM), (*lay.pivot, SHAFT_MM))
-    # carrier 2 carries sector 8, bolted: two M4 on a circle about A_c
-    bolts = tuple(
-        (BOLT_CIRCLE_MM * math.cos(a), BOLT_CIRCLE_MM * math.sin(a)) for a in (0.25 * math.pi, 1.25 * math.pi)
-    )
-    c2 = carrier_parts.plate([(0.0, 0.0, 20.0), (*lay.idler, shaft), (l2, 0.0, shaft)])
-    c2_holes = (
-        (0.0, 0.0, SHAFT_MM),
-        (*lay.idler, SHAFT_MM),
-        (l2, 0.0, SHAFT_MM),
-        *((x, y, TAP_DRILL_M4) for x, y in bolts),
-    )
+    plates = carrier_plates.structure_plates(study, machine, hw, S.sector_bolt_circle, -sector8_in_carrier2(machine))
+    c1, c1_holes, c1_features, c1_notes = plates["carrier_1"]
+    c2, c2_holes, c2_features, c2_notes = plates["carrier_2"]
     lever = carrier_parts.lever(f.arm_length, shaft, 7.0)
     lever_holes = ((f.arm_length, 0.0, ROLLER_PIN_MM),)
     # the sectors: the pair's gears kept over the contacts the swing uses
@@ -98,11 +88,10 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
     g7 = formats.section_of(f"{study.sectors.name}.driver.dxf", used[f"{study.sectors.name}.driver.dxf"])
     g8 = formats.section_of(f"{study.sectors.name}.driven.dxf", used[f"{study.sectors.name}.driven.dxf"])
     s7 = carrier_parts.sector(g7, lo, hi, pitch, 20.0)
-    s8 = carrier_parts.sector(g8, -hi, -lo, pitch, 20.0)
-    # sector 8's bolts where carrier 2's tapped holes are (carrier 2's frame -> sector 8's)
-    turn = -sector8_in_carrier2(machine)
-    c, s = math.cos(turn), math.sin(turn)
-    s8_holes = tuple((c * x - s * y, s * x + c * y, CLEARANCE_M4) for x, y in bolts)
+    # sector 8 turns on gear 5-9's shaft in a bearing: the gear's keyed bore filled, the bearing's bored
+    s8 = shapely.Polygon(carrier_parts.sector(g8, -hi, -lo, pitch, 20.0).exterior)
+    # sector 8 turns on gear 5-9's shaft in a bearing, screwed to carrier 2 from carrier 2's front
+    s8_holes = plates["sector_8_holes"]
     arm = carrier_parts.arm(l3, ARM_HUB_MM, ARM_BOSS_MM, study.claw_at)
     start, tines = claw_span(study)
     claw = carrier_parts.claw(l3, start, study.claw_width, study.claw_tab)
@@ -113,14 +102,11 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
         "carrier_1": (
             c1,
             c1_holes,
-            dataclasses.replace(study.plate, features=solids.Features(holes=c1_holes)),
+            dataclasses.replace(study.plate, features=c1_features),
             (
-                "first planetary carrier (link 1): turns clockwise on the frame shaft (bore "
-                f"{FRAME_SHAFT_MM:g} mm at A0, its origin); +x to A_c",
-                f"shafts ({SHAFT_MM:g} mm): gears 3/4 at ({lay.s3[0]:.3f}, {lay.s3[1]:.3f}), gear 5/9 and "
-                f"carrier 2 at A_c ({l1:.4f}, 0), the follower at ({lay.pivot[0]:.3f}, {lay.pivot[1]:.3f}) mm",
-                "mates with the frame shaft (a bearing at A0) and carries gears 3/4, gear 5/9, the follower and "
-                "carrier 2 on their shafts",
+                *c1_notes,
+                "carries gears 3-4, gear 5-9 and the follower on their shafts (bearings here and in its front plate) "
+                "and carrier 2 on gear 5-9's shaft",
                 "timing: its +x line through A_c at the chain's pose 1 (see the machine record)",
                 where.format(*L.carrier1),
             ),
@@ -128,15 +114,11 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
         "carrier_2": (
             c2,
             c2_holes,
-            dataclasses.replace(study.plate, features=solids.Features(holes=c2_holes)),
+            dataclasses.replace(study.plate, features=c2_features),
             (
-                f"second planetary carrier (link 2): turns about A_c (its origin) on gear 5/9's shaft; +x to Q "
-                f"({l2:.4f}, 0)",
-                f"shafts ({SHAFT_MM:g} mm): the idler 10 at ({lay.idler[0]:.3f}, {lay.idler[1]:.3f}), gear 11 and "
-                "the arm at Q",
-                "mates with sector 8: 2 x M4 tapped (tap drill 3.3 mm) about A_c",
+                *c2_notes,
                 f"timing: sector 8's DXF frame sits {keys['sector_8_frame_from_carrier_2s']:g} deg from this one's "
-                "(counter-clockwise, seen from the arm's side); its bolts set it",
+                "(counter-clockwise, seen from the arm's side); its screws set it",
                 where.format(*L.carrier2),
             ),
         ),
@@ -171,7 +153,8 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
             dataclasses.replace(study.sector, features=solids.Features(holes=s8_holes)),
             (
                 f"sector gear 8 (carrier 2's): {study.sectors.name}.driven's teeth kept over the swing; turns on "
-                "gear 5/9's shaft, bolted to carrier 2 (2 x M4 clearance 4.5 mm)",
+                f"gear 5-9's shaft in a bearing (bore Ø{s8_holes[0][2]:g} H7), screwed to carrier 2 "
+                f"(2 x {S.screws['sector'][0]} tapped, drill Ø{S.screws['sector'][2]:g}, across two spacers)",
                 f"mates with sector 7, centre distance {pair.pair.centre_distance:.4f} mm",
                 "timing: its timing hole meets sector 7's at the swing's start; its bolts set it on carrier 2",
                 where.format(*L.sectors),
@@ -208,6 +191,20 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes]) 
                 where.format(*L.claw),
             ),
         ),
+        **{
+            part: (
+                plates[part][0],
+                plates[part][1],
+                dataclasses.replace(making, features=plates[part][2]),
+                (*plates[part][3], where.format(*z)),
+            )
+            for part, making, z in (
+                ("carrier_1_front", study.plate, S.cover),
+                ("carrier_2_front", study.plate, S.front),
+                ("hub", dataclasses.replace(study.plate, width=S.hub[1] - S.hub[0], material="C45"), S.hub),
+                ("frame", dataclasses.replace(study.plate, width=S.frame[1] - S.frame[0]), S.frame),
+            )
+        },
     }
 
 
@@ -268,7 +265,8 @@ class CarrierPartsStudy(StudyDefaults):
 
     @property
     def uses(self) -> tuple[str, ...]:
-        return (self.machine.sectors.name,)
+        # the cam: its holes place the screws that hold it on its posts
+        return (self.machine.sectors.name, self.machine.cam.name)
 
     WIDTHS = (
         ("carrier_1", "plate"),
@@ -288,8 +286,10 @@ class CarrierPartsStudy(StudyDefaults):
         design = spec.design
         files: dict[str, bytes] = {}
         results: dict = {}
-        for part, (section, _holes, making, notes) in parts_to_make(spec, design, used).items():
-            res, shop, _ = manufacture(
+        hw = carrier_structure.hardware(spec, design)
+        sections = {}
+        for part, (section, _holes, making, notes) in parts_to_make(spec, design, used, hw).items():
+            res, shop, made = manufacture(
                 f"{self.name}.{part}",
                 section,
                 shapely.Polygon(),
@@ -299,6 +299,16 @@ class CarrierPartsStudy(StudyDefaults):
             )
             results[part] = res
             files.update(shop)
+            sections[part] = made.section
+        for turned, _ in hw.turned:
+            res, shop = turned.files()  # its drawing re-read as the part it shows, or an error
+            res["dxf_R2000"] = {"layer": "TURN", "re_read_as_made": True}
+            results[turned.name.removeprefix(f"{self.name}.")] = res
+            files.update(shop)
+        # the bought parts' drawings, for the judge: the structure's and the screws' heads
+        screwed = carrier_bodies.screws(spec, _screwed_bodies(spec, design, hw, sections, self.name), {**used, **files})
+        files.update(carrier_bodies.bought_files(self.name, [*hw.fitted, *(_fitted(b) for b in screwed)]))
+        results["structure"] = {**spec.structure.record(), "bearings": list(hw.bearings), "shafts": hw.shafts}
         f = spec.cam.follower
         roller = solids.circle_polygon(f.arm_length, 0.0, f.roller_radius)
         files[f"{self.name}.roller{BOUGHT}"] = formats.DXF.write(
@@ -311,6 +321,7 @@ class CarrierPartsStudy(StudyDefaults):
                     f"bought: 625 ball bearing (5 x {2 * f.roller_radius:g} x 5 mm) on the lever's pin, "
                     "in the lever's frame",
                 ),
+                layer=formats.BOUGHT,
             )
         )
         lay = design.layout
@@ -325,11 +336,49 @@ class CarrierPartsStudy(StudyDefaults):
             "machine": spec.name,
             "uses": list(self.uses),
         }
+        # the parts' records beside their files, for the machine's bill of materials (bill.made_records)
+        files[f"{self.name}.parts.json"] = json_bytes({"parameters": params, "results": results})
         return Built({"kind": "carrier_parts", "parameters": params, "results": results}, files)
 
     def check(self, files: dict[str, bytes]) -> Checked:
-        """Each part's STEP against its DXF, re-read."""
-        made, problems = check_shop_files(
-            files, {f"{self.name}.{p}": getattr(self.machine, m).width for p, m in self.WIDTHS}
-        )
+        """Each part's STEP against its DXF, re-read; each turned part's drawing re-read as made."""
+        S = self.machine.structure
+        widths = {f"{self.name}.{p}": getattr(self.machine, m).width for p, m in self.WIDTHS}
+        for part, z in (("carrier_1_front", S.cover), ("carrier_2_front", S.front), ("hub", S.hub), ("frame", S.frame)):
+            widths[f"{self.name}.{part}"] = z[1] - z[0]
+        made, problems = check_shop_files(files, widths)
+        for turned, _ in carrier_structure.hardware(self.machine, self.machine.design).turned:
+            again = read_turned(files[f"{turned.name}.dxf"], turned.name)
+            if not again.same_as(turned):
+                problems.append(f"{turned.name}.dxf re-reads as {again}, not as made")
         return Checked({"made": made}, problems)
+
+
+def _fitted(b):
+    from transplanter.machine.hardware import Fitted
+
+    return Fitted(b.name, b.part, b.link, b.z, b.flip)
+
+
+def _screwed_bodies(study, machine, hw, sections: dict, stem: str) -> dict:
+    """The bodies the screwed joints name, as :func:`carrier_bodies.screws` reads them: the plates
+    made here, the cam, the claw and arm, and one post."""
+    from transplanter.machine.bodies import Body
+
+    L, S = study.layers, study.structure
+    z = {
+        "carrier_1": L.carrier1,
+        "carrier_2": L.carrier2,
+        "carrier_1_front": S.cover,
+        "carrier_2_front": S.front,
+        "hub": S.hub,
+        "frame": S.frame,
+        "sector_8": L.sectors,
+        "arm": L.arm,
+        "claw": L.claw,
+    }
+    out = {name: Body(name, sections[name], zr, "x", f"{stem}.{name}.dxf") for name, zr in z.items()}
+    out["cam"] = Body("cam", shapely.box(0, 0, 1, 1), L.cam, "fixed", f"{study.cam.name}.cam.dxf")
+    post = next(p for t, ps in hw.turned for p in ps if p.body == "post_1")
+    out["post_1"] = Body("post_1", shapely.box(0, 0, 1, 1), post.z, post.link, "")
+    return out

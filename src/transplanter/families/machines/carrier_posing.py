@@ -19,14 +19,31 @@ from transplanter.core.errors import GeometryError
 from transplanter.core.precision import rounded
 from transplanter.families.machines import carrier_making
 from transplanter.families.machines.carrier_making import BOUGHT
-from transplanter.families.machines.record import OBSTACLE
+from transplanter.families.machines.carrier_structure import cam_angle
+from transplanter.families.machines.record import OBSTACLE, obstacle_file
 from transplanter.families.pairs.pair_assembly import read_meshing_csv
+from transplanter.machine import tray
 from transplanter.machine.bodies import MOTION_POSITIONS
 from transplanter.machine.carriers import CarrierLayout, DoubleCarrierMachine, MadeMesh
 from transplanter.proof import follower
 from transplanter.shop import formats
 
-__all__ = ["JOINED", "NOT_GEARBOX", "body_specs", "design", "layout", "links", "made_machine", "meshes", "soil"]
+__all__ = [
+    "JOINED",
+    "NOT_GEARBOX",
+    "body_specs",
+    "design",
+    "layout",
+    "links",
+    "made_machine",
+    "meshes",
+    "soil",
+    "span",
+    "tray_files",
+    "tray_place",
+    "tray_specs",
+    "tray_z",
+]
 
 
 def meshes(study, files: dict[str, bytes]) -> dict[str, MadeMesh]:
@@ -96,6 +113,14 @@ def made_machine(study, files: dict[str, bytes]) -> tuple[DoubleCarrierMachine, 
     return machine, {"follower_on_the_cam_dxf_max_error_mm": rounded(run.max_error, 6)}
 
 
+def span(study) -> tuple[float, float]:
+    """Across the whole machine, the structure too (the soil lies across it), mm: 10 mm beyond the
+    outermost planes."""
+    S = study.structure
+    zs = [*study.layers.span, S.frame[0] - 10.0, S.front[1] + 10.0]
+    return min(zs), max(zs)
+
+
 def soil(study) -> shapely.Polygon:
     """The soil below its surface, ``planting_depth`` above the design tip's deepest point."""
     theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
@@ -108,7 +133,7 @@ def soil(study) -> shapely.Polygon:
 def body_specs(study) -> list[tuple[str, str, tuple[float, float], str, bool]]:
     """Every body the machine is judged on: ``(name, DXF, plane, link, mirrored)``
     (:func:`~transplanter.families.machines.record.read_bodies`)."""
-    L, n = study.layers, study.parts
+    L, S, n = study.layers, study.structure, study.parts
     s23, s35, sp = study.stage23.name, study.stage35.name, study.spurs.name
     specs = [
         ("carrier_1", f"{n}.carrier_1.dxf", L.carrier1, "carrier1", False),
@@ -127,7 +152,12 @@ def body_specs(study) -> list[tuple[str, str, tuple[float, float], str, bool]]:
         ("gear_11", f"{sp}.driver.dxf", L.spurs, "gear11", False),
         ("arm", f"{n}.arm.dxf", L.arm, "arm", False),
         ("claw", f"{n}.claw.dxf", L.claw, "arm", False),
-        ("soil", f"{study.name}.soil{OBSTACLE}", L.span, "fixed", False),
+        # the structure's plates (carrier_structure): the frame, carrier 1's hub and both front plates
+        ("frame", f"{n}.frame.dxf", S.frame, "fixed", False),
+        ("hub", f"{n}.hub.dxf", S.hub, "carrier1", False),
+        ("carrier_1_front", f"{n}.carrier_1_front.dxf", S.cover, "carrier1", False),
+        ("carrier_2_front", f"{n}.carrier_2_front.dxf", S.front, "carrier2", False),
+        ("soil", f"{study.name}.soil{OBSTACLE}", span(study), "fixed", False),
     ]
     # mounted face down: the pairs seen from their backs (carriers module docstring)
     return [(*spec[:4], spec[3] in carrier_making.MIRRORED) for spec in specs]
@@ -138,7 +168,6 @@ JOINED = (
     ("sun", "gear_3"),
     ("gear_4", "gear_5"),
     ("cam", "roller"),
-    ("lever", "roller"),
     ("sector_7", "sector_8"),
     ("gear_9", "gear_10"),
     ("gear_10", "gear_11"),
@@ -154,18 +183,49 @@ def links(study, machine: DoubleCarrierMachine) -> dict:
     out = dict(machine.links)
     # the cam is fixed to the frame at its own angle; the roller turns on the lever's pin
     # (a circle: only its centre's path matters, posed on the lever's frame)
-    cam_angle = _cam_angle(machine)
-    out["cam"] = dataclasses.replace(out["carrier1"], name="cam", pose=lambda t: _still(t, cam_angle), turn_rate=0.0)
+    angle = cam_angle(machine)
+    out["cam"] = dataclasses.replace(out["carrier1"], name="cam", pose=lambda t: _still(t, angle), turn_rate=0.0)
     out["roller"] = out["follower"]
     return out
 
 
-def _cam_angle(machine: DoubleCarrierMachine) -> float:
-    """The cam's DXF frame in the machine frame: its follower frame (pivot on +x) where carrier
-    1 puts the pivot at the start, turned by the cam angle there (0)."""
-    p = machine.poses(np.zeros(1))
-    x, y, _ = p["follower"]
-    return float(math.atan2(float(y[0]), float(x[0])))
+def tray_place(study, machine: DoubleCarrierMachine) -> tuple[np.ndarray, float]:
+    """The picked pot's mouth (x, y mm) and axis (rad, into the pot): the claw grips its seedling at
+    Table 1's pose 2 (seed 002's end of picking seedling), so the pot is where the claw's tip is
+    then, ``pot_depth`` (seed 002 requirement 3: 30 mm) down its axis; the axis is the tray's normal at
+    its inclination, on the side the claw points to there."""
+    tau = np.array([float(study.chain.pose_tau[1])])
+    tip = machine.tip(tau)[0]
+    att = float(machine.poses(tau)["arm"][2][0])
+    axis = tray.axis_angle(study.tray.inclination_deg, math.cos(att))
+    return tip - study.pot_depth * np.array([math.cos(axis), math.sin(axis)]), axis
+
+
+def tray_z(study) -> tuple[tuple[float, float], tuple[float, float]]:
+    """The tray's z-range and its picked pot's: in front of the gearbox by the minimum axial gap, the
+    picked column first, the claw's plane inside it (mm). The tray is as wide as 8 columns (the
+    128-cell tray's 8 across); its picked cell is cut through its middle (``tray`` docstring)."""
+    t = study.tray
+    back = study.structure.front[1] + study.layers.min_axial_gap
+    return (back, back + 8 * t.pitch), (back, back + t.top)
+
+
+def tray_files(study) -> dict[str, bytes]:
+    """The tray's walls and the picked pot's soil as obstacles in the machine frame."""
+    mouth, axis = tray_place(study, study.design)
+    (tz, pz) = tray_z(study)
+    out = obstacle_file(study.name, "tray", study.tray.walls(mouth, axis), tz)
+    out.update(obstacle_file(study.name, "pot", study.tray.pot(mouth, axis), pz))
+    return out
+
+
+def tray_specs(study) -> list[tuple[str, str, tuple[float, float], str, bool]]:
+    """The tray's bodies as :func:`body_specs` states bodies."""
+    tz, pz = tray_z(study)
+    return [
+        ("tray", f"{study.name}.tray{OBSTACLE}", tz, "fixed", False),
+        ("pot", f"{study.name}.pot{OBSTACLE}", pz, "fixed", False),
+    ]
 
 
 def _still(theta, angle: float):

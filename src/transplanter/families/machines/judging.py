@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from transplanter.core.precision import rounded
-from transplanter.families.machines.record import pictures
+from transplanter.families.machines.record import outline_layer, pictures
 from transplanter.machine.bodies import Body, motion_rows, work_depth
 from transplanter.shop.export import csv_bytes
 
@@ -35,11 +35,13 @@ def depth_row(tool: Body, work: Body, link, theta: np.ndarray, tip, knee) -> dic
 
 
 def body_rows(bodies: list[Body]) -> dict:
-    """Each body as the machine record states it: its DXF, plane, link (and whether it is mounted
-    face down)."""
+    """Each body as the machine record states it: its DXF and the layer its outline is on there
+    (CUT for a made part, REFERENCE for an obstacle, BOUGHT for a bought part), plane, link (and
+    whether it is mounted face down)."""
     return {
         b.name: {
             "dxf": b.dxf,
+            "layer": outline_layer(b.dxf),
             "z_mm": [b.z[0], b.z[1]],
             "link": b.link,
             **({"mirrored": True} if b.mirrored else {}),

@@ -1,6 +1,7 @@
-"""Seed 004's machine judged: every two bodies that could meet over the carrier's turn (and with
-each planet anywhere in its play), how deep each needle enters its work, objectives i and ii on the
-bodies beside the needle-line figures, and what one plane for all arm bodies would do; with
+"""Seed 004's machine judged: every two bodies that move against each other, in 3D over the
+carrier's turn — their axial gap, or their in-plane clearance (and with each planet anywhere in its
+play); the declared joints (meshes, keys, bolts) recorded — how deep each needle enters its work,
+objectives i and ii on the bodies beside the needle-line figures, and what one plane for all arm bodies would do; with
 ``shown`` the motion table, the animation and the slider.
 
 The functions take the :class:`~transplanter.families.machines.planetary_machine.PlanetaryMachineStudy`
@@ -9,69 +10,245 @@ The functions take the :class:`~transplanter.families.machines.planetary_machine
 
 from __future__ import annotations
 
+import dataclasses
 import math
+import re
 
 import numpy as np
+import shapely
+import shapely.affinity
 
 from transplanter.core.precision import rounded
 from transplanter.design.objectives import BOX_CLEARANCE_MM, seed004_objectives
 from transplanter.families.machines import planetary_posing
-from transplanter.families.machines.judging import PHASES, body_rows, depth_row, motion_files
-from transplanter.families.machines.record import clearance_row
+from transplanter.families.machines.judging import PHASES, body_rows, depth_row
+from transplanter.families.machines.record import clearance_row, pairs_record, pictures
 from transplanter.machine import animation
 from transplanter.machine.bodies import (
+    IN_PLANE,
     MOTION_POSITIONS,
     Body,
     Judged,
+    Link,
     Pair,
     PlanetaryMachine,
     clearances,
     clearances_under_play,
+    judge_pairs,
+    motion_rows,
     pairs_to_judge,
     posed,
     tool_phases,
 )
+from transplanter.machine.hardware import TURN
+from transplanter.proof.clearance import Posed, posed_sections, reach, relative
+from transplanter.shop.export import csv_bytes
 
-__all__ = ["judge", "objectives", "work_depths"]
+__all__ = ["joints_of", "judge", "objectives", "required_of", "work_depths", "door_margins"]
+
+#: the structure's bodies the animation and the slider show (the rest is in the motion table)
+SHOWN = ("carrier_rear", "ring_spacer", "ring_flange", "frame_")
+
+
+def joints_of(study, design=None) -> tuple[dict[frozenset, str], dict[frozenset, str]]:
+    """The machine's declared joints (pair of bodies -> what joins them) and working pairs (pair
+    -> what the tool does there): each planet meshes with the ring and carries its arm plate on
+    its key and its needle on two bolts; each needle works in the box and in the soil; and the
+    structure's (``design``: bearings on their shafts and in their plates, circlips, sleeves,
+    thrust washers, keys)."""
+    joints, working = dict(design.joints) if design is not None else {}, {}
+    for k in range(1, study.train.planets + 1):
+        if design is not None:
+            joints[frozenset((f"planet_{k}", f"planet_shaft_{k}"))] = "key: the planet on its shaft"
+            joints[frozenset((f"arm_{k}", f"planet_shaft_{k}"))] = "key: the arm plate on the planet shaft"
+        joints[frozenset(("ring", f"planet_{k}"))] = "mesh: the ring's teeth and the planet's"
+        joints[frozenset((f"planet_{k}", f"arm_{k}"))] = "key: the planet and the arm plate on one keyed shaft"
+        joints[frozenset((f"arm_{k}", f"needle_{k}"))] = (
+            "bolts: the needle on 2 x M4 through spacer washers on the plate's outer face"
+        )
+        working[frozenset((f"needle_{k}", "box"))] = "the needle takes seedlings from the box"
+        working[frozenset((f"needle_{k}", "soil"))] = "the needle plants in the soil"
+    return joints, working
+
+
+def required_of(study, design):
+    """The clearance a pair must keep in-plane, mm: a rigid pair judged anyway its own (the frame
+    above the soil: objective x), two pieces of the structure's hardware the running clearance,
+    any other the machine's clearance."""
+    run = study.structure.running_clearance
+
+    def required(p: Pair) -> float:
+        key = frozenset((p.a, p.b))
+        if key in design.keep:
+            return design.keep[key]
+        return run if {p.a, p.b} <= design.hardware else study.clearance
+
+    return required
+
+
+def _symmetric(design) -> set[str]:
+    """The structure's bodies whose sections are circles or rings about their own origin: turning
+    about it leaves them where they are (their speed is their origin's)."""
+    out = {b for placed in design.turned for b, _, _ in placed.at}
+    return out | {f.name for f in design.fitted if f.kind != "Nut" and f.judged() is not None}
+
+
+def _in_carrier(links: dict[str, Link], planets: set[str]) -> dict[str, Link]:
+    """Every link seen from the carrier, with its speed bounds there: the carrier and what is fixed
+    on it stand still, the ring turns about the axis at 1 - ω1/ω2 of the carrier's rate, the
+    ground at the carrier's, each planet about its own fixed centre at its turn rate plus the
+    carrier's; a mounted link as its base turns, its origin moving at that rate times its offset."""
+    carrier = links["carrier"]
+    rate = {"carrier": 0.0, "ring": abs(links["ring"].turn_rate - 1.0), "fixed": 1.0}
+    rate.update({k: links[k].turn_rate + 1.0 for k in planets})
+    out = {}
+    for name, link in links.items():
+        base, (x, y) = (link.origin_in[0][0], link.origin_in[0][1:]) if link.origin_in else (name, (0.0, 0.0))
+        turn = rate[base]
+
+        def pose(theta, link=link):
+            t = np.asarray(theta, dtype=float)
+            mine = tuple(np.broadcast_to(np.asarray(v, dtype=float), t.shape) for v in link.pose(t))
+            ref = tuple(np.broadcast_to(np.asarray(v, dtype=float), t.shape) for v in carrier.pose(t))
+            return relative(mine, ref)
+
+        out[name] = Link(name, pose, turn * math.hypot(x, y), turn, link.origin_in)
+    return out
+
+
+def _posed_in(bodies, links: dict[str, Link], about_origin: set[str], symmetric: set[str]) -> dict:
+    """:func:`posed` with the bounds this machine knows: the radii a body's points keep from the
+    frame's origin — exact for a body on a link turning about that origin, or for a symmetric body
+    whose link's origin stands still (a shaft seen from its carrier); the origin's distance less and
+    plus the body's reach for any other body on such a link; none otherwise — and a symmetric body
+    moving no faster than its origin."""
+    ready = posed(bodies, links)
+    zero = np.zeros(1)
+    for b in bodies:
+        link = links[b.link]
+        base, (x, y) = (link.origin_in[0][0], link.origin_in[0][1:]) if link.origin_in else (b.link, (0.0, 0.0))
+        radii = None
+        if base in about_origin or (link.speed == 0.0 and b.name in symmetric):
+            if base not in about_origin:
+                x, y = (float(np.asarray(v, dtype=float).ravel()[0]) for v in link.pose(zero)[:2])
+            placed = shapely.affinity.translate(b.section, x, y)
+            radii = (float(shapely.distance(shapely.Point(0.0, 0.0), placed)), reach(placed))
+        elif link.speed == 0.0:
+            c, r = (
+                math.hypot(*(float(np.asarray(v, dtype=float).ravel()[0]) for v in link.pose(zero)[:2])),
+                reach(b.section),
+            )
+            radii = (max(0.0, c - r), c + r)
+        speed = link.speed if b.name in symmetric else ready[b.name].speed
+        ready[b.name] = dataclasses.replace(ready[b.name], radii=radii, speed=speed)
+    return ready
+
+
+def _not_periodic(bodies, links) -> set[str]:
+    """The bodies not back where they started after one carrier turn: the ring turns ω1/ω2 of a
+    turn per carrier turn (3/4), so a body on it comes back only if its section looks the same
+    turned by that much (the spacer's bolt circle does; a single screw, a keyway, a timing notch do
+    not)."""
+    ends = np.array([0.0, 2 * math.pi])
+    out = set()
+    for b in bodies:
+        x, y, a = (np.broadcast_to(np.asarray(v, dtype=float), ends.shape) for v in links[b.link].pose(ends))
+        if (
+            abs(x[1] - x[0]) < 1e-9
+            and abs(y[1] - y[0]) < 1e-9
+            and abs(math.remainder(a[1] - a[0], 2 * math.pi)) < 1e-12
+        ):
+            continue
+        start, end = posed_sections(b.section, x, y, a)
+        if shapely.symmetric_difference(start, end).area > 1e-9 * max(b.section.area, 1.0):
+            out.add(b.name)
+    return out
+
+
+def _there_and_back(ready: Posed, end: float) -> Posed:
+    """``ready`` driven to ``end`` (rad: the motion table's last position) and back — θ = end t/π,
+    then end (2 - t/π), over t in one period — periodic in t whether or not the body is back at its
+    start after the turn, end/π times as fast."""
+
+    def pose(t, pose=ready.pose):
+        t = np.mod(np.asarray(t, dtype=float), 2 * math.pi)
+        return pose(end * np.where(t < math.pi, t / math.pi, 2.0 - t / math.pi))
+
+    return dataclasses.replace(ready, pose=pose, speed=ready.speed * end / math.pi)
+
+
+def _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets) -> list:
+    """:func:`judge_pairs`, each pair measured in the machine's frame or the carrier's, whichever
+    bounds their relative speed tighter (distances are the same in both): the carrier's settles a
+    shaft turning in its bore at once. A pair with a body not back at its start after the turn
+    (:func:`_not_periodic`) is measured to the motion table's last position and back
+    (:func:`_there_and_back`, on twice the positions): its figure is over the positions the table
+    poses and between them, not across the turn's end, where such a body jumps."""
+    machine = _posed_in(bodies, links, {"ring", "carrier", "fixed"}, symmetric)
+    carrier = _posed_in(bodies, _in_carrier(links, planets), {"ring", "carrier", "fixed"}, symmetric)
+    unwound = _not_periodic(bodies, links)
+    split: dict[tuple[bool, bool], list] = {}
+    for p in pairs:
+        in_carrier = carrier[p.a].speed + carrier[p.b].speed < machine[p.a].speed + machine[p.b].speed
+        split.setdefault((in_carrier, bool({p.a, p.b} & unwound)), []).append(p)
+    found = {}
+    end = 2 * math.pi * (MOTION_POSITIONS - 1) / MOTION_POSITIONS
+    there = math.pi * np.asarray(grid, dtype=float) / end  # t of each grid angle, then back through `end`
+    fine = np.concatenate([there, [math.pi], 2 * math.pi - there[:0:-1]])
+    for (in_carrier, back), some in split.items():
+        ready = carrier if in_carrier else machine
+        if back:
+            names = {n for p in some for n in (p.a, p.b)}
+            ready = {n: _there_and_back(ready[n], end) for n in names}
+        for v in judge_pairs(ready, some, fine if back else grid, gap, required):
+            if back and v.judged is not None:  # t back to the driver's angle, the samples on the grid
+                t = math.radians(v.judged.at_deg) % (2 * math.pi)
+                at = math.degrees(end * (t / math.pi if t < math.pi else 2.0 - t / math.pi))
+                j = dataclasses.replace(v.judged, at_deg=at, sampled=v.judged.sampled[: len(grid)])
+                v = dataclasses.replace(v, judged=j)
+            found[(v.pair.a, v.pair.b)] = v
+    return [found[(p.a, p.b)] for p in pairs], machine
 
 
 def judge(
-    study, files, names, machine: PlanetaryMachine, module: float, turn: float | None, shown: bool = True
+    study, files, names, machine: PlanetaryMachine, module: float, turn: float | None, design, shown: bool = True
 ) -> dict:
-    """The machine ``study`` states, posed as ``machine``: bodies, pairs, clearances (and with
-    ``turn``, rad, each planet at either end of its play), objectives on bodies and the one-plane
-    finding; with ``shown`` the motion table, the animation and the slider too."""
+    """The machine ``study`` states, posed as ``machine`` with its structure ``design``: bodies,
+    pairs, clearances (and with ``turn``, rad, each planet at either end of its play), objectives on
+    bodies, the seedling door's margins and the one-plane finding; with ``shown`` the motion table,
+    the animation and the slider too."""
     n = study.train.planets
-    bodies = planetary_posing.bodies(study, files, names)
-    links = machine.links
-    ready = posed(bodies, links)
+    bodies = planetary_posing.bodies(study, files, names, design)
+    links = {**machine.links, **design.links}
+    planets = {f"planet.{k}" for k in range(1, n + 1)}
+    symmetric = _symmetric(design)
     theta = 2 * math.pi * np.arange(MOTION_POSITIONS) / MOTION_POSITIONS
     # the clearances start from a coarser grid (the bound refines between its samples): the
     # slider's positions, so each position's smallest clearance is one of its samples
     grid = 2 * math.pi * np.arange(animation.SLIDER_POSITIONS) / animation.SLIDER_POSITIONS
-    joined = set()
-    working = {}
-    for k in range(1, n + 1):
-        joined |= {
-            frozenset(("ring", f"planet_{k}")),  # the mesh
-            frozenset(("carrier", f"planet_{k}")),  # the planet shaft
-            frozenset((f"planet_{k}", f"arm_{k}")),  # the key
-            frozenset((f"arm_{k}", f"needle_{k}")),  # the bolts
-        }
-        working[frozenset((f"needle_{k}", "box"))] = "the needle takes seedlings from the box"
-        working[frozenset((f"needle_{k}", "soil"))] = "the needle plants in the soil"
-    pairs = pairs_to_judge(bodies, joined, working)
-    judged = clearances(ready, pairs, grid)
+    joints, working = joints_of(study, design)
+    pairs = pairs_to_judge(bodies, links, joints, working, grid, frozenset(design.keep))
+    gap = study.layers.min_axial_gap
+    required = required_of(study, design)
+    verdicts, ready = _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets)
+    judged = [v.judged for v in verdicts if v.judged is not None]  # measured in-plane: working or not
+    in_plane = [v.judged for v in verdicts if v.kind == IN_PLANE]
     played = {}
     if turn is not None:  # the planets anywhere in their play, each independently
-        planets = {f"planet.{k}" for k in range(1, n + 1)}
-        checked = [p for p in pairs if not p.working]
-        nominal = {frozenset((j.pair.a, j.pair.b)): j for j in judged}
+        # a symmetric body turning about its own centre with its planet is where it was: such a pair
+        # keeps its figure in the play; the others are measured there
+        on_planet = {b.name for b in bodies if b.link in planets and b.name not in symmetric}
+        checked = [j.pair for j in in_plane if {j.pair.a, j.pair.b} & on_planet]
+        nominal = {frozenset((j.pair.a, j.pair.b)): j for j in in_plane}
         settle = max(study.clearance, BOX_CLEARANCE_MM)  # what the pairs are judged against
         played = {
             frozenset((j.pair.a, j.pair.b)): j
             for j in clearances_under_play(bodies, ready, links, checked, grid, turn, planets, nominal, settle)
         }
+        link_of = {b.name: b.link for b in bodies}
+        played.update(
+            {k: j for k, j in nominal.items() if k not in played and {link_of[j.pair.a], link_of[j.pair.b]} & planets}
+        )
     depths = work_depths(study, bodies, links, theta, [j.pair for j in judged if j.pair.working])
     arm = study.arm
     problems = [
@@ -80,12 +257,7 @@ def judge(
         for p, d in depths.items()
         if d["at_most_mm"] > arm.bar
     ]
-    problems += [
-        f"{j.pair.a} and {j.pair.b} come {j.distance:.4g} mm apart at driver {j.at_deg:.2f} deg "
-        f"(clearance required {study.clearance:g} mm)"
-        for j in judged
-        if not j.pair.working and j.distance < study.clearance
-    ]
+    problems += [v.problem for v in verdicts if v.problem]
     # what one plane for all arm bodies would do: each arm plate against the other arms' needles
     cross = [Pair(f"arm_{k}", f"needle_{j}") for k in range(1, n + 1) for j in range(1, n + 1) if j != k]
     single = clearances(ready, cross, grid)
@@ -104,10 +276,10 @@ def judge(
             else f"the arms would clear in one plane too ({worst_single.distance:.3g} mm)"
         ),
     }
-    found = objectives(study, machine, judged, module, played)
+    found = objectives(study, machine, in_plane, module, played)
     if turn is not None:
         worst = min(played.values(), key=lambda j: j.distance)
-        under = [j for j in played.values() if j.distance < study.clearance]
+        under = [j for j in played.values() if j.distance < required(j.pair)]
         record_play = {
             "turn_deg": rounded(math.degrees(turn), 6),
             "measured": sum(j.exact for j in played.values()),
@@ -120,15 +292,18 @@ def judge(
     record = {
         "driver": "the carrier, deg of clockwise turn from the start",
         "frame": "the train's: carrier axis at the origin, y up, the soil below (seed 004 eqs 3-10)",
-        "bodies": body_rows(bodies),
-        "joined": sorted(" + ".join(sorted(p)) for p in joined),
+        "bodies": _body_rows(bodies, design),
+        "joined": {" + ".join(sorted(p)): what for p, what in joints.items()},
         "motion": f"{study.name}.motion.csv",
         "positions": MOTION_POSITIONS,
         "clearance_required_mm": study.clearance,
+        "running_clearance_mm": study.structure.running_clearance,
+        "door": door_margins(verdicts),
+        "min_axial_gap_mm": gap,
         "clearances": [
-            clearance_row(j, study.clearance, played.get(frozenset((j.pair.a, j.pair.b))), depths.get(j.pair))
-            for j in judged
+            clearance_row(v, played.get(frozenset((v.pair.a, v.pair.b))), depths.get(v.pair)) for v in verdicts
         ],
+        "pairs": pairs_record(bodies, verdicts, gap),
         "animation": f"{study.name}.animation.gif",
         "slider": f"{study.name}.slider.js",
     }
@@ -140,7 +315,10 @@ def judge(
         box, soil = (next(b.section for b in bodies if b.name == w) for w in ("box", "soil"))
         phases = [tool_phases(t, box, soil, PHASES) for t in machine.tips(theta)]
         labels = [f"arm {k + 1}" for k in range(n)]
-        files_out.update(motion_files(study.name, bodies, links, theta, machine.tips, judged, phases, labels))
+        header, rows = motion_rows(bodies, links, theta)  # every body: the judge re-poses each from it
+        files_out[f"{study.name}.motion.csv"] = csv_bytes(header, rows)
+        shown_bodies = [b for b in bodies if b.name not in design.hardware or b.name.startswith(SHOWN)]
+        files_out.update(pictures(study.name, shown_bodies, links, machine.tips, in_plane, phases, labels))
     return {
         "record": record,
         "objectives": found,
@@ -168,10 +346,21 @@ def objectives(study, machine: PlanetaryMachine, judged: list[Judged], module: f
     line = {o.number: o for o in seed004_objectives(machine.made, study.site, module)}
 
     def arm_of(name: str) -> str | None:
-        return name.split("_")[1] if name.startswith(("arm_", "needle_")) else None
+        found = re.fullmatch(r"(arm|needle)_(\d+)", name)
+        return found.group(2) if found else None
+
+    def box_part(name: str) -> bool:
+        return name == "box" or name.startswith("box_")
 
     between_arms = [j for j in judged if arm_of(j.pair.a) and arm_of(j.pair.b) and arm_of(j.pair.a) != arm_of(j.pair.b)]
-    at_box = [j for j in judged if "box" in (j.pair.a, j.pair.b) and not j.pair.working]
+    # the arm clears every part of the box; the needle enters it through the door (door_margins)
+    at_box = [
+        j
+        for j in judged
+        if box_part(j.pair.a) != box_part(j.pair.b)
+        and not j.pair.working
+        and not any(re.fullmatch(r"needle_\d+", x) for x in (j.pair.a, j.pair.b))
+    ]
     i = min(between_arms, key=lambda j: j.distance)
     ii = min(at_box, key=lambda j: j.distance)
     rows = {
@@ -214,3 +403,34 @@ def _played(played: dict, among: list[Judged]) -> dict:
     worst = min(found, key=lambda j: j.distance)
     key = "under_play_mm" if worst.exact else "under_play_at_least_mm"
     return {key: rounded(worst.distance, 6), "under_play_bodies": [worst.pair.a, worst.pair.b]}
+
+
+def _body_rows(bodies, design) -> dict:
+    """:func:`body_rows`, a turned part's with where its section is: the circle of its side view's
+    diameter (layer ``TURN``), less its bore (``HIDDEN``) — its envelope across the machine."""
+    rows = body_rows(bodies)
+    for placed in design.turned:
+        for body, _, _ in placed.at:
+            rows[body]["layer"] = TURN
+            rows[body]["section"] = (
+                "turned: the circle of the side view's diameter less the bore (HIDDEN), its envelope"
+            )
+    return rows
+
+
+def door_margins(verdicts) -> dict:
+    """How the needles pass the seedling box: through the door's slot (their axial gap to the door
+    either side of it), clear of the floor (in-plane) and of the side walls (axial gap), mm — the
+    smallest over the needles."""
+    out = {}
+    for part in ("box_door_back", "box_door_front", "box_floor", "box_wall_back", "box_wall_front"):
+        found = [
+            v
+            for v in verdicts
+            if part in (v.pair.a, v.pair.b)
+            and any(x.startswith("needle_") and x[7:].isdigit() for x in (v.pair.a, v.pair.b))
+        ]
+        if found:
+            low = min(found, key=lambda v: v.figure)
+            out[part] = {"kind": low.kind, "mm": rounded(low.figure, 6), "minimum_mm": low.minimum, "pass": low.passed}
+    return out

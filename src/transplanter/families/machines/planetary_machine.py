@@ -11,21 +11,28 @@ carrier plate. It
    ``check`` meshes the DXFs again and holds the table to them);
 2. makes the planting arm of each planet as two parts (:mod:`transplanter.machine.arm_parts`): the arm
    plate keyed to the planet shaft, and the needle bolted to it — DXF, STL, STEP, one of each per
-   planet — and the obstacles as DXF sections in the machine frame: the seedling box (a block
-   ``box`` long up its slope from the end face and as high across it, centred on the box point)
-   and the soil (below the soil level the train's metrics find);
+   planet — and what holds and drives them (:mod:`~transplanter.families.machines.planetary_structure`,
+   ``structure``: two carrier plates, the planet shafts in bearings at both ends, the carrier shaft,
+   the ring's spacer, flange and hollow shaft, the frame, both drives; made plates, turned parts,
+   bought parts) and the obstacles as DXF sections in the machine frame: the seedling box (its
+   seedlings, a block ``box`` long up its slope from the end face and as high across it, its floor,
+   side walls and seedling door) and the soil (below the soil level the train's metrics find);
 3. stacks the bodies in the planes the part script states
-   (:class:`~transplanter.families.machines.layers.Layers`): gears, carrier, arm plates, needles;
-   the box and the soil across all of them;
-4. judges every two bodies whose planes overlap and that no joint or mesh joins
-   (:func:`machine.pairs_to_judge`) over the carrier's turn, bounded between the samples
-   (:mod:`transplanter.proof.clearance`), against the clearance stated (``clearance``); a needle in the
-   box or the soil is its work, recorded, not judged;
+   (:class:`~transplanter.families.machines.layers.Layers`): gears, carrier, arm plates, needles,
+   and the structure's in the planes it derives from them; the soil across all of them;
+4. judges every two bodies that move against each other in 3D over the carrier's turn
+   (:func:`machine.judge_pairs`): planes at least ``layers.min_axial_gap`` apart pass on that gap,
+   the others must keep the clearance stated (``clearance``) in-plane, bounded between the samples
+   (:mod:`transplanter.proof.clearance`); a declared joint (the meshes, the keys, the bolts) is
+   recorded, and a needle in the box or the soil is its work, recorded, not judged;
 5. judges seed 004's objectives i (arms do not interfere) and ii (arms clear the box) on these
    bodies, beside the needle-line figures of :mod:`transplanter.design.objectives`, and says what one
    plane for all arm bodies would do (the reason for the layers);
 6. writes the motion table (``driver_deg`` and each body's pose), an animated GIF, the slider's
-   script for the report, and a 3MF of the made parts at the start, and records
+   script for the report, and a 3MF of the made parts at the start; the bill of materials, the
+   assembly STEP, the assembly drawing with balloons and its picture
+   (:mod:`~transplanter.families.machines.assembly`, the bought parts its drawings name:
+   :func:`~transplanter.families.machines.bought.planetary_bought`); and records
    ``results.machine`` (the data contract a judge re-poses the DXF bodies from).
 
 Posed from the files in :mod:`~transplanter.families.machines.planetary_posing` (steps 1 and 3,
@@ -50,16 +57,19 @@ from transplanter.design.objectives import Site
 from transplanter.design.planetary import DifferentialTrain
 from transplanter.families.builder.making import Making, check_shop_files, manufacture
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
-from transplanter.families.machines import planetary_judging, planetary_posing
+from transplanter.families.machines import planetary_judging, planetary_parts, planetary_posing
+from transplanter.families.machines.assembly import check_documents, machine_documents
+from transplanter.families.machines.bought import planetary_bought
 from transplanter.families.machines.judging import PHASES
 from transplanter.families.machines.layers import Layers
-from transplanter.families.machines.record import judged_again, obstacle_file, start_assembly
+from transplanter.families.machines.planetary_structure import Structure
+from transplanter.families.machines.record import judged_again, start_assembly
 from transplanter.families.pairs.toothed import ToothedPairStudy
 from transplanter.machine.arm_parts import ArmParts, arm_parts
 from transplanter.shop import solids
 from transplanter.shop.export import json_bytes
 
-__all__ = ["Layers", "PlanetaryMachineStudy", "PHASES"]
+__all__ = ["Layers", "PlanetaryMachineStudy", "PHASES", "Structure"]
 
 #: names this module gave before issue 41 moved them to modules of their own, still found here
 __getattr__ = forward(
@@ -99,6 +109,8 @@ class PlanetaryMachineStudy(StudyDefaults):
     point: float = 12.0
     #: the seedling box section: length up the slope from its end face, height across it, mm
     box: tuple[float, float] = (300.0, 60.0)
+    #: what holds and drives the train, and the box's sheet (:mod:`planetary_structure`)
+    structure: Structure = Structure()
 
     def __post_init__(self) -> None:
         check_number("clearance", self.clearance, 0.0, 1000.0, unit="mm")
@@ -153,32 +165,45 @@ class PlanetaryMachineStudy(StudyDefaults):
             )
             results[role] = res
             files.update(shop)
-        obstacles = planetary_posing.obstacles(self, module)
-        for what, section in obstacles.items():
-            files.update(obstacle_file(self.name, what, section, self.layers.span))
         machine, start = planetary_posing.posed_machine(self, used, record, names)
-        judged = planetary_judging.judge(self, {**used, **files}, names, machine, module, turn)
+        design = planetary_parts.designed(self, machine.links, used, names)
+        made, more, door = planetary_parts.make(self, design, used, names, machine.links, module, turn)
+        files.update(more)
+        judged = planetary_judging.judge(self, {**used, **files}, names, machine, module, turn, design)
         results["machine"] = judged["record"]
         results["machine"]["posed_from"] = {
             "meshing": f"{names['meshing']} ({names['ring']} and {names['planet']} meshed by the pair's proof)",
             "assembly_record": names["record"],
             **start,
         }
+        results["machine"]["structure"] = {**design.record, "door": {**door, **judged["record"]["door"]}}
+        results["structure_parts"] = {r["stem"]: r for r in made}
         results["objectives_on_bodies"] = judged["objectives"]
         results["one_plane"] = judged["one_plane"]
         files.update(judged["files"])
         at = planetary_posing.start_poses(self, record)  # the planets in the middle of their play
-        results["assembly"], more = start_assembly(self.name, judged["bodies"], machine.links, at)
+        links = {**machine.links, **design.links}
+        shown = planetary_parts.planes_of_3mf(judged["bodies"], design)
+        results["assembly"], more = start_assembly(self.name, shown, links, at)
+        files.update(more)
+        # the bill of materials, the assembly STEP and drawing with balloons, the picture
+        shop, own = {**used, **files}, (results["arm_plate"], results["needle"], *made)
+        bought = [*planetary_bought(planetary_parts.drawn(judged["bodies"], design), shop), *design.fitted]
+        documents, more = machine_documents(
+            self.name, judged["bodies"], links, at, shop, bought, own, made=planetary_parts.made_bodies(design)
+        )
+        results.update(documents)
         files.update(more)
         files[f"{self.name}.machine.json"] = json_bytes(results["machine"])
         if judged["problems"]:
             raise GeometryError(f"{self.name}: " + "; ".join(judged["problems"]))
         params = {
             "clearance_mm": self.clearance,
-            "layers_mm": {k: list(v) for k, v in dataclasses.asdict(self.layers).items()},
+            "layers_mm": self.layers.record(),
             "arm_plate_mm": {"hub_radius": self.hub, "knee_boss_radius": self.boss, "bolting_tab": self.tab},
             "needle_mm": {"width": self.needle_width, "point": self.point},
             "seedling_box_section_mm": {"length_up_the_slope": self.box[0], "height_across": self.box[1]},
+            "structure": dataclasses.asdict(self.structure),
             "uses": list(self.uses),
         }
         return Built({"kind": "machine", "parameters": params, "results": results}, files)
@@ -194,10 +219,12 @@ class PlanetaryMachineStudy(StudyDefaults):
                 f"knee A at ({arm.knee[0]:.3f}, {arm.knee[1]:.3f}) mm (H1 = {g.knee:g} mm); needle tip at "
                 f"S = {g.tip:g} mm, beta = {math.degrees(g.mount):.3f} deg",
                 "2 x M4 tapped (tap drill 3.3 mm) for the needle",
-                f"{where}; the planet shaft ends flush with its outer face (end screw)",
+                f"{where}; held on the planet shaft by a DIN 471 circlip on its outer face",
             )
+        spacer = self.layers.needles[0] - self.layers.plates[1]
+        over = f" over {spacer:g} mm spacers ({self.name}.needle_spacer)" if spacer > 0 else ""
         return (
-            f"planting needle, one per arm: mates with the arm plate, bolted on its outer face (2 x M4); tip at "
+            f"planting needle, one per arm: mates with the arm plate, bolted on its outer face (2 x M4){over}; tip at "
             f"({arm.tip[0]:.3f}, {arm.tip[1]:.3f}) mm in the planet's frame",
             "timing: its two bolt holes on the plate's tapped holes set its direction",
             f"{self.needle_width:g} mm wide, point ground over its last {self.point:g} mm",
@@ -210,16 +237,29 @@ class PlanetaryMachineStudy(StudyDefaults):
         judged again; each must be the recorded one."""
         record, names, turn = planetary_posing.inputs(self, files)
         machine, _ = planetary_posing.posed_machine(self, files, record, names)
-        judged = planetary_judging.judge(self, files, names, machine, float(record["module_mm"]), turn, shown=False)
+        design = planetary_parts.designed(self, machine.links, files, names)
+        module = float(record["module_mm"])
+        judged = planetary_judging.judge(self, files, names, machine, module, turn, design, shown=False)
+        required = planetary_judging.required_of(self, design)
         again, summary = judged_again(
-            judged["record"]["clearances"], files[f"{self.name}.machine.json"], lambda r: self.clearance
+            judged["record"]["clearances"],
+            files[f"{self.name}.machine.json"],
+            lambda r: required(planetary_judging.Pair(*r["bodies"])),
         )
         problems = list(judged["problems"]) + again
-        # the arm parts' STEP against their DXF and the machine's 3MF, re-read as the other parts' are
-        made, more = check_shop_files(
-            files,
-            {f"{self.name}.arm_plate": self.plate.width, f"{self.name}.needle": self.needle.width},
-            (f"{self.name}.assembly.3mf", [b.name for b in judged["bodies"] if b.link != "fixed"]),
+        # the made parts' STEP against their DXF and the machine's 3MF, re-read as the other parts' are
+        widths = {f"{self.name}.arm_plate": self.plate.width, f"{self.name}.needle": self.needle.width}
+        widths.update({f"{self.name}.{p.part}": p.z[1] - p.z[0] for p in design.plates})
+        shown = planetary_parts.planes_of_3mf(judged["bodies"], design)
+        made, more = check_shop_files(files, widths, (f"{self.name}.assembly.3mf", [b.name for b in shown]))
+        problems += more
+        problems += planetary_parts.turned_problems(design, files)
+        # the bill of materials against the made files, the assembly STEP re-read
+        at = planetary_posing.start_poses(self, record)
+        links = {**machine.links, **design.links}
+        bought = [*planetary_bought(planetary_parts.drawn(judged["bodies"], design), files), *design.fitted]
+        documents, more = check_documents(
+            self.name, judged["bodies"], links, at, files, bought, made=planetary_parts.made_bodies(design)
         )
         problems += more
-        return Checked({"clearances": summary, "made": made}, problems)
+        return Checked({"clearances": summary, "made": {**made, **documents}}, problems)

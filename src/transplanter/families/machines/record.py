@@ -1,5 +1,6 @@
 """What every machine study writes and reads: its bodies re-read from their DXFs, the obstacles,
-a judged pair as the record states it, the animation and slider, the 3MF at the start.
+a pair judged in 3D as the record states it (and how the record accounts for every two bodies),
+the animation and slider, the 3MF at the start.
 
 Shared by :mod:`~transplanter.families.machines.planetary_machine` (seed 004) and
 :mod:`~transplanter.families.machines.carrier_machine` (seed 002).
@@ -15,15 +16,28 @@ import shapely
 
 from transplanter.core.precision import rounded
 from transplanter.machine import animation
-from transplanter.machine.bodies import MOTION_POSITIONS, Body, Judged
+from transplanter.machine.bodies import (
+    AXIAL,
+    IN_PLANE,
+    JOINT,
+    MOTION_POSITIONS,
+    WORKING,
+    Body,
+    Judged,
+    Verdict,
+    rigid_pairs,
+)
 from transplanter.shop import formats, solids
 
 __all__ = [
     "OBSTACLE",
+    "BOUGHT",
     "OUTLINE_TOL_MM",
+    "outline_layer",
     "obstacle_file",
     "read_bodies",
     "clearance_row",
+    "pairs_record",
     "judged_again",
     "pictures",
     "start_assembly",
@@ -31,13 +45,25 @@ __all__ = [
 
 #: the suffix of an obstacle's section (the seedling box, the soil): a DXF that is not a part
 OBSTACLE = ".obstacle.dxf"
+#: the suffix of a bought part's section (drawn for the judge and the assembly, not cut)
+BOUGHT = ".bought.dxf"
 #: the re-read DXF sections are judged simplified to within this, mm (a stated distance is then
 #: within twice this plus ``clearance.CLEARANCE_TOL_MM`` of the files' own)
 OUTLINE_TOL_MM = 1e-3
 
 
+def outline_layer(fname: str) -> str:
+    """The DXF layer a body's file has its outline on, by what the file is: an obstacle's
+    (:data:`OBSTACLE`) on REFERENCE, a bought part's (:data:`BOUGHT`) on BOUGHT, a made part's on
+    CUT (``shop.dxf.OUTLINES``) — where the judges read it from."""
+    if fname.endswith(OBSTACLE):
+        return formats.REFERENCE
+    return formats.BOUGHT if fname.endswith(BOUGHT) else formats.CUT
+
+
 def obstacle_file(name: str, what: str, section: shapely.Polygon, span: tuple[float, float]) -> dict[str, bytes]:
-    """``<name>.<what>.obstacle.dxf``: an obstacle's section in the machine frame (not a part)."""
+    """``<name>.<what>.obstacle.dxf``: an obstacle's section in the machine frame (not a part: its
+    outline on layer REFERENCE, nothing on CUT)."""
     lo, hi = span
     part = formats.MadePart(
         f"{name}.{what}",
@@ -45,18 +71,21 @@ def obstacle_file(name: str, what: str, section: shapely.Polygon, span: tuple[fl
         None,
         hi - lo,
         (f"{what}: an obstacle in the machine frame (not a part), z {lo:g}..{hi:g} mm",),
+        layer=formats.REFERENCE,
     )
     return {f"{name}.{what}{OBSTACLE}": formats.DXF.write(part)}
 
 
 def read_bodies(files: dict[str, bytes], specs) -> list[Body]:
-    """Each body ``(name, file, z, link, mirrored)`` as re-read from its DXF (simplified to
-    :data:`OUTLINE_TOL_MM`; mirrored about its x-axis when it is mounted face down)."""
+    """Each body ``(name, file, z, link, mirrored)`` as re-read from its DXF — from the layer its
+    file has its outline on (:func:`outline_layer`) — simplified to :data:`OUTLINE_TOL_MM`, and
+    mirrored about its x-axis when it is mounted face down."""
     out = []
     cache: dict[str, shapely.Polygon] = {}
     for name, fname, z, link, mirrored in specs:
         if fname not in cache:
-            cache[fname] = formats.section_of(fname, files[fname]).simplify(OUTLINE_TOL_MM)
+            section = formats.section_of(fname, files[fname], layer=outline_layer(fname))
+            cache[fname] = section.simplify(OUTLINE_TOL_MM)
         section = cache[fname]
         if mirrored:
             section = shapely.orient_polygons(shapely.transform(section, lambda xy: xy * [1.0, -1.0]))
@@ -64,26 +93,57 @@ def read_bodies(files: dict[str, bytes], specs) -> list[Body]:
     return out
 
 
-def clearance_row(j: Judged, clearance: float, played: Judged | None = None, depth: dict | None = None) -> dict:
-    """A judged pair as the machine record states it (``clearance``: what it is judged against)."""
+def clearance_row(v: Verdict, played: Judged | None = None, depth: dict | None = None) -> dict:
+    """A pair judged in 3D as the machine record states it: its ``kind`` (axial gap, in-plane,
+    joint, working), the ``figure_mm`` it is judged by, the ``minimum_mm`` it must keep (None: not
+    judged), ``pass``, its ``axial_gap_mm`` (negative: the planes overlap); with an in-plane
+    approach, where it lies and its bound; a joint's or a working pair's reason."""
+    j = v.judged
     row = {
-        "bodies": [j.pair.a, j.pair.b],
-        "min_mm": rounded(j.distance, 6),
-        "at_driver_deg": round(j.at_deg, 4),
-        "bound_mm": rounded(j.bound, 6),
+        "bodies": [v.pair.a, v.pair.b],
+        "kind": v.kind,
+        "figure_mm": rounded(v.figure, 6),
+        "minimum_mm": v.minimum,
+        "pass": bool(v.passed),
+        "axial_gap_mm": rounded(v.pair.axial_gap, 6),
     }
-    if j.pair.working:
-        row["working"] = j.pair.working
+    if v.kind == JOINT:
+        row["joint"] = v.pair.joint
+    if j is not None:
+        row.update(min_mm=rounded(j.distance, 6), at_driver_deg=round(j.at_deg, 4), bound_mm=rounded(j.bound, 6))
+    if v.kind == WORKING:
+        row["working"] = v.pair.working
         if depth is not None:  # only the tool's free end enters its work
             row["enters_from_tip_mm"] = depth
-    else:
-        row["pass"] = bool(j.distance >= clearance)
     if played is not None and played.exact:
         row["under_play_mm"] = rounded(played.distance, 6)
         row["under_play_at_driver_deg"] = round(played.at_deg, 4)
     elif played is not None:  # settled by the bound: no point moves further than turn x reach
         row["under_play_at_least_mm"] = rounded(played.distance, 6)
     return row
+
+
+def pairs_record(bodies: list[Body], verdicts: list[Verdict], min_axial_gap: float) -> dict:
+    """How the record accounts for every two bodies: how many pairs of each kind were judged, the
+    smallest axial gap and in-plane clearance among the judged, and the pairs rigid to each
+    other (one link, or links that never move against each other: not judged)."""
+    kinds = {k: sum(v.kind == k for v in verdicts) for k in (AXIAL, IN_PLANE, JOINT, WORKING)}
+    axial = [v for v in verdicts if v.kind == AXIAL]
+    plane = [v for v in verdicts if v.kind == IN_PLANE]
+    out: dict = {"judged": len(verdicts), **kinds, "min_axial_gap_mm": min_axial_gap}
+    if axial:
+        low = min(axial, key=lambda v: v.figure)
+        out["smallest_axial_gap"] = {"mm": rounded(low.figure, 6), "bodies": [low.pair.a, low.pair.b]}
+    if plane:
+        low = min(plane, key=lambda v: v.figure - (v.minimum or 0.0))
+        out["nearest_in_plane"] = {
+            "mm": rounded(low.figure, 6),
+            "minimum_mm": low.minimum,
+            "bodies": [low.pair.a, low.pair.b],
+        }
+    out["failed"] = sum(not v.passed for v in verdicts)
+    out["rigid"] = sorted(" + ".join(p) for p in rigid_pairs(bodies, [v.pair for v in verdicts]))
+    return out
 
 
 def pictures(name: str, bodies, links, tips, judged, phases, labels) -> dict[str, bytes]:
@@ -127,24 +187,41 @@ def start_assembly(name: str, bodies, links, at: dict) -> tuple[dict, dict[str, 
     return {"file": f"{name}.assembly.3mf", **res}, {f"{name}.assembly.3mf": data}
 
 
-def judged_again(rows: list[dict], stated: bytes, required) -> tuple[list[str], dict]:
+def judged_again(rows: list[dict], stated: bytes, required=None) -> tuple[list[str], dict]:
     """The clearance ``rows`` judged again from the files against the record ``stated`` (a
-    ``<machine>.machine.json``): a problem for each that moved by more than 1e-6 mm or is not
-    recorded; and the summary a check prints — the pair nearest its requirement
-    (``required(row)``, mm)."""
-    was = {tuple(r["bodies"]): r["min_mm"] for r in json.loads(stated)["clearances"]}
+    ``<machine>.machine.json``): a problem for each whose kind or verdict changed, whose figure
+    moved by more than 1e-6 mm, or that is not recorded (or is recorded and no longer judged);
+    and the summary a check prints — how many pairs of each kind, the smallest axial gap and the
+    in-plane pair nearest its minimum (``required(row)``, mm; default its ``minimum_mm``)."""
+    required = required or (lambda r: r["minimum_mm"])
+    was = {tuple(r["bodies"]): r for r in json.loads(stated)["clearances"]}
     problems = []
     for row in rows:
-        before = was.get(tuple(row["bodies"]))
-        if before is None or abs(before - row["min_mm"]) > 1e-6:
-            problems.append(f"{' and '.join(row['bodies'])}: {row['min_mm']} mm now, {before} mm recorded")
-    judged = [r for r in rows if "working" not in r]
-    near = min(judged, key=lambda r: r["min_mm"] - required(r))
-    summary = {
-        "pairs_judged": len(judged),
-        "smallest_mm": near["min_mm"],
-        "between": " - ".join(near["bodies"]),
-        "at_driver_deg": near["at_driver_deg"],
-        "required_mm": required(near),
-    }
+        before = was.pop(tuple(row["bodies"]), None)
+        name = " and ".join(row["bodies"])
+        if before is None:
+            problems.append(f"{name}: judged now ({row['kind']}), not in the record")
+        elif (before.get("kind"), before.get("pass")) != (row["kind"], row["pass"]):
+            problems.append(
+                f"{name}: {row['kind']} pass={row['pass']} now, {before.get('kind')} pass={before.get('pass')} recorded"
+            )
+        elif abs(before["figure_mm"] - row["figure_mm"]) > 1e-6:
+            problems.append(f"{name}: {row['figure_mm']} mm now, {before['figure_mm']} mm recorded")
+    problems += [f"{' and '.join(k)}: recorded, no longer judged" for k in was]
+    plane = [r for r in rows if r["kind"] == IN_PLANE]
+    axial = [r for r in rows if r["kind"] == AXIAL]
+    kinds = {k: sum(r["kind"] == k for r in rows) for k in (AXIAL, IN_PLANE, JOINT, WORKING)}
+    summary: dict = {"pairs_judged": len(rows), **kinds}
+    if axial:
+        low = min(axial, key=lambda r: r["figure_mm"])
+        summary["smallest_axial_gap_mm"] = low["figure_mm"]
+        summary["axial_between"] = " - ".join(low["bodies"])
+    if plane:
+        near = min(plane, key=lambda r: r["min_mm"] - required(r))
+        summary.update(
+            smallest_mm=near["min_mm"],
+            between=" - ".join(near["bodies"]),
+            at_driver_deg=near["at_driver_deg"],
+            required_mm=required(near),
+        )
     return problems, summary

@@ -68,7 +68,8 @@ class Joint:
 @dataclass(frozen=True)
 class LinkPlatesStudy(StudyDefaults):
     """The four plates of ``arm`` (see the module docstring); ``thickness``, ``nose`` and ``gap``
-    in mm; ``making`` gives the wire and DXF versions (its width is the plate thickness)."""
+    in mm; ``making`` gives the wire, DXF versions and material (its width is the plate thickness;
+    by default S235JR plate, which each drawing states)."""
 
     cost = 3
 
@@ -79,7 +80,7 @@ class LinkPlatesStudy(StudyDefaults):
     thickness: float
     nose: float
     gap: float = 0.5
-    making: Making = field(default_factory=lambda: Making(width=1.0))
+    making: Making = field(default_factory=lambda: Making(width=1.0, material="S235JR"))
 
     def __post_init__(self) -> None:
         if not isinstance(self.arm, PlantingArm):
@@ -103,7 +104,11 @@ class LinkPlatesStudy(StudyDefaults):
     # -- geometry in each link's frame ------------------------------------------------------
     def _making(self, link: str) -> Making:
         return Making(
-            self.thickness, self._features(link), wire=self.making.wire, dxf_versions=self.making.dxf_versions
+            self.thickness,
+            self._features(link),
+            wire=self.making.wire,
+            dxf_versions=self.making.dxf_versions,
+            material=self.making.material,
         )
 
     def joints(self) -> dict[str, list[tuple[str, float, float, Joint]]]:

@@ -378,6 +378,11 @@ class PlanetaryStudy(StudyDefaults):
             "mates: the planets on their shafts, inside the ring; the carrier shaft in the bore",
             "timing: the shaft on +x carries arm I",
             f"width {making.width:g} mm",
+        ) + (
+            # drawn, not cut: another part (seed 004's machine) cuts its carrier plates to this layout
+            ("the planet layout the shop cuts the machine's carrier plates to: their bearing seats on these centres",)
+            if making.quantity == 0
+            else ()
         )
         res, files, _ = manufacture(
             stem,

@@ -48,13 +48,16 @@ from transplanter.geometry.pair_gate import per_gear
 from transplanter.geometry.pitch import GearPair
 from transplanter.shop.solids import Features
 
-__all__ = ["gear_pair", "pair_family", "BORE_FRACTION", "DEFAULT_WIDTH"]
+__all__ = ["gear_pair", "pair_family", "BORE_FRACTION", "DEFAULT_WIDTH", "PAIR_MATERIAL"]
 
 #: an external gear's bore: this fraction of its smallest root radius (room for the timing mark
 #: between bore and roots)
 BORE_FRACTION = 0.4
 #: face width when none is given, mm
 DEFAULT_WIDTH = 10.0
+#: the material a pair's drawings name (``transplanter.shop.catalogue``): C45 quenched and tempered,
+#: a gear steel that holds its shape when cut by wire EDM
+PAIR_MATERIAL = "C45"
 
 
 def _bore(pair: GearPair, k: int, cutter) -> float:
@@ -174,6 +177,7 @@ def pair_family(
         Making(
             width,
             Features() if pair.ring == role else Features(_bore(pair, k, cutter), keyway=False),
+            material=PAIR_MATERIAL,
         )
         for k, role in enumerate(("driver", "driven"))
     )
@@ -196,10 +200,11 @@ def _incomplete_family(spec, checked, *, internal, width, name, module) -> Famil
     mesh = "internal" if internal else "external"
     pair = study.pair
     making = (
-        Making(width, Features(_sector_bore(pair, "driver", module), keyway=False)),
+        Making(width, Features(_sector_bore(pair, "driver", module), keyway=False), material=PAIR_MATERIAL),
         Making(
             width,
             Features() if internal else Features(_sector_bore(pair, "driven", module), keyway=False),
+            material=PAIR_MATERIAL,
         ),
     )
     study = dataclasses.replace(study, making=making)
