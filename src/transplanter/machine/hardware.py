@@ -237,9 +237,9 @@ class Turned:
                 f"{made}; turned part: unstated diameters and lengths +/-0.1 mm; z from its back end (left here)",
             ]
             for k, line in enumerate(lines):
-                msp.add_text(
-                    line.replace("Ø", "%%c"), dxfattribs={"layer": "ANNOTATION", "height": height}
-                ).set_placement((0.0, below - r - (k + 2) * 1.6 * height))
+                msp.add_text(line, dxfattribs={"layer": "ANNOTATION", "height": height}).set_placement(
+                    (0.0, below - r - (k + 2) * 1.6 * height)
+                )
             return dxf._write(doc)
 
     def _timing(self) -> str:

@@ -97,13 +97,12 @@ def manufacture(
     the files' stem, the material, quantity and outline layer, for a bill of materials), the files
     by name and the :class:`~transplanter.shop.formats.MadePart` (for assemblies).
     """
-    made = f"make {making.quantity}" if making.quantity else "do not cut this drawing as it is (see the notes above)"
-    notes = (
-        *notes,
-        catalogue.material(making.material).note,
-        f"{made}{f' from {making.width:g} mm plate' if making.quantity else ''}; contour tolerance "
-        f"+/-{making.tolerance:g} mm",
+    made = (
+        f"make {making.quantity} from {making.width:g} mm plate"
+        if making.quantity
+        else "do not cut this drawing as it is (see the notes above)"
     )
+    notes = (*notes, catalogue.material(making.material).note, f"{made}; contour tolerance +/-{making.tolerance:g} mm")
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
     bad = machining.wire_violations(section, wire_r)
