@@ -260,6 +260,68 @@ def test_what_holds_and_drives_seed_004(built):
         assert "CUT" not in layers and "TURN" in layers and name in made[name.removesuffix(".dxf")]
 
 
+def test_seed_004_under_load(built):
+    """Issue 44 on the build: the drives' power by Newton-Euler and virtual power agree to 1e-6;
+    every support is checked at the computed loads (a bearing's L10h at least the structure's life,
+    its static safety at least 1.5; a bush within its rating and sliding limit), its load the pin's
+    share; the masses are the bill of materials' (every moving body's, the frame's apart); the
+    three arms at 120 deg leave the shaking force only its multiples of 3 per carrier turn."""
+    folder, rec = _machine(built)
+    loads = rec["results"]["loads"]
+    assert loads["power_agreement"]["newton_euler_vs_virtual_power_rel"] <= 1e-6
+    assert {d["drive"] for d in loads["drives"]} == {"ring motor", "carrier motor"}
+    for d in loads["drives"]:  # the needle's work costs more than inertia and weight
+        assert abs(d["peak_torque_nm"]) > d["peak_torque_without_work_nm"] > 0
+        assert d["rms_torque_nm"] <= abs(d["peak_torque_nm"])
+    supports = loads["supports"]
+    assert len(supports) == 10 and all(r["pass"] for r in supports)
+    for r in supports:
+        if "life_h" in r:
+            assert r["life_h"] >= r["required_life_h"] == 3000.0 and r["static_safety"] >= 1.5
+    bom = {r["name"]: r for r in csv.DictReader(io.StringIO((folder / "machine.bom.csv").read_text()))}
+    planet = float(bom["optimised_ring_planet.driven"]["mass_kg"]) + float(bom["machine.arm_plate"]["mass_kg"])
+    assert loads["mass"]["planet.1"]["mass_kg"] > planet + float(bom["machine.needle"]["mass_kg"])
+    assert loads["mass"]["ring"]["mass_kg"] > float(bom["optimised_ring_planet.driver"]["mass_kg"])
+    shaking = loads["shaking"]
+    for axis in ("harmonics_x_n", "harmonics_y_n"):
+        h = shaking[axis]
+        assert max(h[0], h[1], h[3], h[4]) < 0.1 * h[2]
+    assert (folder / "machine.loads.png").stat().st_size > 10_000
+    # the made teeth under that load: the force at the actual contact is the torque over its lever,
+    # so within a few per cent of the pitch-point force's largest; nominal stresses, no allowable
+    teeth = loads["teeth"]
+    largest = max(m["max_normal_force_n"] for m in loads["meshes"])
+    assert 0.9 * largest < teeth["max_force_n"] < 1.1 * largest
+    assert 0.0 < teeth["max_root_stress_planet_mpa"]["value"] < teeth["max_contact_stress_mpa"]["value"]
+    assert teeth["material"]["allowables"] is None
+    assert teeth["material"]["needs_sigma_hlim_mpa_at_least"] == teeth["max_contact_stress_mpa"]["value"]
+    # every key and shaft section checked; short of its safety: what the machine carries is a finding
+    ks = loads["keys_and_shafts"]
+    assert len(ks["keys"]) == 11 and {r["shaft"] for r in ks["shafts"]} >= {"planet_shaft_1", "carrier_shaft"}
+    findings = rec["results"]["machine"].get("findings", [])
+    if not ks["pass"]:
+        cap = ks["needle_force_capacity"]
+        assert 0 < cap["n"] < cap["stated_n"] and cap["least_margin_there"] >= 0
+        assert any(f"carries {cap['n']:g} N at each needle" in f for f in findings)
+
+
+def test_seed_002_under_load(built):
+    """Seed 002's machine at 60 r/min (its ADAMS speed): Newton-Euler and virtual power agree to
+    1e-6, every support passes at the computed loads, and a roller the cam would have to pull is a
+    finding naming the return torque a spring on the follower must give."""
+    _, rec = _machine(built, "potseedling_seed002")
+    loads = rec["results"]["loads"]
+    assert loads["power_agreement"]["newton_euler_vs_virtual_power_rel"] <= 1e-6
+    assert [d["speed_rpm"] for d in loads["drives"]] == [60.0]
+    assert len(loads["meshes"]) == 5 and all(r["pass"] for r in loads["supports"])
+    cam = loads["cam"]
+    findings = rec["results"]["machine"].get("findings", [])
+    leaves = [f for f in findings if "leaves the cam" in f]
+    assert cam["stays_on_the_cam"] == (cam["min_n"] >= 0.0) == (not leaves)
+    if leaves:
+        assert f"{cam['return_torque_needed_nm']:g} N m" in leaves[0]
+
+
 def test_the_readme_shows_the_bill_of_materials_the_build_writes(built):
     """The README's machine section shows seed 004's bill of materials: the table under its marker
     is the build's ``machine.bom.csv`` (item, part, quantity, made or bought, material or

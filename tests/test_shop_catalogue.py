@@ -45,6 +45,7 @@ TABLES = (
     "hex_nuts",
     "shaft_and_hole_tolerances",
     "materials",
+    "gear_materials",
 )
 
 

@@ -4,7 +4,9 @@ A machine is bodies in planes, posed over its cycle, with the clearance between 
 could meet (:mod:`~transplanter.machine.bodies`); seed 004's planting arms as plates
 (:mod:`~transplanter.machine.arm_parts`); seed 002's double carrier as moving links
 (:mod:`~transplanter.machine.carriers`) and its parts as a designer draws them
-(:mod:`~transplanter.machine.carrier_parts`); the cycle to watch (:mod:`~transplanter.machine.animation`).
+(:mod:`~transplanter.machine.carrier_parts`); the cycle to watch (:mod:`~transplanter.machine.animation`);
+what the machine carries — its bodies' masses (:mod:`~transplanter.machine.mass`) and the inverse
+dynamics of its links, Newton-Euler checked by virtual power (:mod:`~transplanter.machine.dynamics`).
 
 Takes
     made gears and their meshing (:mod:`transplanter.proof`), trains (:mod:`transplanter.design`).

@@ -330,7 +330,11 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
         ("nearest to the tray's walls", _get(m, "tray", "requirements", "2", "smallest_clearance_mm"), "mm"),
         ("its margin to requirement 2", _get(m, "tray", "requirements", "2", "margin_mm"), "mm"),
     )
+    rows += _loads(_dict(res.get("loads")))
     proofs = [f"finding: {f}" for f in _list(m.get("findings")) if isinstance(f, str)]
+    agree = _get(res, "loads", "power_agreement", "newton_euler_vs_virtual_power_rel")
+    if isinstance(agree, int | float):
+        proofs.append(f"under load: the drives' power by Newton-Euler and by virtual power agree to {agree:.1e}")
     if gaps:
         passed = all(c.get("pass") for c in gaps)
         proofs.append(
@@ -344,6 +348,41 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
     if isinstance(finding, str):
         proofs.append(finding)
     return rows, proofs
+
+
+def _loads(loads: dict) -> list[Row]:
+    """The verdicts a designer reads first of a machine under load: each drive's peak and RMS
+    torque and peak power, the largest tooth force, the shortest bearing life, the shaking force."""
+    rows: list[Row] = []
+    for d in _list(loads.get("drives")):
+        if isinstance(d, dict):
+            rows += _rows(
+                (f"{d.get('drive')}: peak torque (RMS)", _pair(d.get("peak_torque_nm"), d.get("rms_torque_nm")), "N m"),
+                (f"{d.get('drive')}: peak power", d.get("peak_power_w"), "W"),
+            )
+    meshes = [x for x in _list(loads.get("meshes")) if isinstance(x, dict)]
+    supports = [x for x in _list(loads.get("supports")) if isinstance(x, dict)]
+    lives = [x for x in supports if isinstance(x.get("life_h"), int | float)]
+    shortest = min(lives, key=lambda x: x["life_h"]) if lives else {}
+    roots = ("max_root_stress_ring_mpa", "max_root_stress_planet_mpa")
+    ks = _dict(loads.get("keys_and_shafts"))
+    return rows + _rows(
+        ("largest tooth normal force", _extreme([x.get("max_normal_force_n") for x in meshes], max), "N"),
+        ("shortest bearing life L10h", shortest.get("life_h"), "h"),
+        ("at", f"{shortest.get('designation')}, {shortest.get('joint')}" if shortest else None, ""),
+        ("largest tooth contact stress, nominal", _get(loads, "teeth", "max_contact_stress_mpa", "value"), "MPa"),
+        ("largest tooth root stress, nominal", _extreme([_get(loads, "teeth", k, "value") for k in roots], max), "MPa"),
+        ("smallest key safety", _get(ks, "smallest_key_safety", "safety"), ""),
+        ("smallest shaft fatigue safety", _get(ks, "smallest_shaft_safety", "fatigue_safety"), ""),
+        ("needle force the machine carries", _get(ks, "needle_force_capacity", "n"), "N"),
+        ("largest shaking force on the frame", _get(loads, "shaking", "max_n"), "N"),
+    )
+
+
+def _pair(a, b) -> str | None:
+    if not isinstance(a, int | float) or not isinstance(b, int | float):
+        return None
+    return f"{number(a)} ({number(b)})"
 
 
 _KINDS = {

@@ -45,6 +45,8 @@ details { margin: 0.4em 0; } summary { cursor: pointer; } p.files { font-size: 0
 _SHOP = (".dxf", ".stl", ".step", ".3mf")
 #: a machine's slider script (``animation.slider_script``): the page gives it a canvas and a range
 SLIDER_SUFFIX = ".slider.js"
+#: what a machine's page links under its files instead of showing (:func:`_shown`)
+LINKED_ON_MACHINES = (".gif", ".assembly.png")
 #: a part with more shop files than this counts them in its verdict and folds its list of files
 _LISTED = 12
 _SLIDER = (
@@ -104,19 +106,27 @@ def _scrubbed(files) -> bool:
     return any(f.endswith(SLIDER_SUFFIX) for f in files)
 
 
+def _shown(files) -> list[str]:
+    """The files the part's page shows, in order: its pictures and its slider. A machine whose cycle
+    the slider scrubs shows the slider first and its pictures but the animation (GIF) and the
+    assembly picture (:data:`LINKED_ON_MACHINES`: linked under its files, beside the assembly
+    drawing it is the picture of) — the cycle and what it carries side by side, the page short."""
+    scrubbed = _scrubbed(files)
+    linked = LINKED_ON_MACHINES if scrubbed else ()
+    out = [f for f in sorted(files) if f.endswith((".png", ".gif")) and not f.endswith(linked)]
+    slider = [f for f in sorted(files) if f.endswith(SLIDER_SUFFIX)]
+    return [*slider, *out] if scrubbed else [*out, *slider]
+
+
 def _figures(rec: dict) -> str:
     """The part's plots, each a link to itself (a click opens it full size), and its slider."""
     out = []
-    files = rec.get("files", {})
-    scrubbed = _scrubbed(files)
-    for fname in sorted(files):
+    for fname in _shown(rec.get("files", {})):
         name = html.escape(fname)
-        if fname.endswith(".gif") and scrubbed:  # linked under its files
-            continue
-        if fname.endswith((".png", ".gif")):
-            out.append(f"<a href='{name}'><img src='{name}' alt='{name}'></a>")
-        elif fname.endswith(SLIDER_SUFFIX):  # a machine's cycle to scrub (animation.slider_script)
+        if fname.endswith(SLIDER_SUFFIX):  # a machine's cycle to scrub (animation.slider_script)
             out.append(_SLIDER.format(src=name))
+        else:
+            out.append(f"<a href='{name}'><img src='{name}' alt='{name}'></a>")
     return f"<div class='figs'>{''.join(out)}</div>" if out else ""
 
 
@@ -132,11 +142,14 @@ def _part(part: str, rec: dict) -> list[str]:
     half = -(-len(rows) // 2) if len(rows) > _KEY_ROWS else len(rows)
     out.append(f"<div class='key'>{table(rows[:half], 'key')}{table(rows[half:], 'key')}</div>" if rows else "")
     out.append(_figures(rec))
-    out.append(grouped("results", rec.get("results", {}), order=list(table_order(str(rec.get("kind"))))))
+    order = list(table_order(str(rec.get("kind"))))
+    # a machine's results are the shop's and the judge's detail (its verdicts are the key above): folded
+    out.append(grouped("results", rec.get("results", {}), folded=rec.get("kind") == "machine", order=order))
     out.append(grouped("parameters", rec.get("parameters", {}), folded=True))
     files = rec.get("files", {})
-    shown = (".png", ".svg", SLIDER_SUFFIX) if _scrubbed(files) else (".png", ".svg", ".gif", SLIDER_SUFFIX)
-    links = " ".join(f"<a href='{html.escape(f)}'>{html.escape(f)}</a>" for f in sorted(files) if not f.endswith(shown))
+    shown = set(_shown(files))
+    shown |= {f for f in files if f.endswith(".svg") and f.removesuffix(".svg") + ".png" in shown}  # its SVG twin
+    links = " ".join(f"<a href='{html.escape(f)}'>{html.escape(f)}</a>" for f in sorted(files) if f not in shown)
     count = links.count("<a ")
     if count > _LISTED:
         out.append(f"<details class='files'><summary>files ({count})</summary><p class='files'>{links}</p></details>")

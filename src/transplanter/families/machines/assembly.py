@@ -55,6 +55,7 @@ __all__ = [
     "start_pose",
     "assembly_order",
     "machine_documents",
+    "documents_and_assembly",
     "check_documents",
 ]
 
@@ -183,7 +184,14 @@ def assembly_order(steps: list[tuple[tuple[float, float], str, bool]]) -> tuple[
     )
 
 
-def machine_documents(
+def machine_documents(*args, **kwargs) -> tuple[dict, dict[str, bytes]]:
+    """The bill of materials, assembly STEP, assembly drawing and picture of a machine: the record
+    and the files of :func:`documents_and_assembly` (its arguments)."""
+    record, out, _, _ = documents_and_assembly(*args, **kwargs)
+    return record, out
+
+
+def documents_and_assembly(
     name: str,
     bodies,
     links,
@@ -193,13 +201,15 @@ def machine_documents(
     own: tuple[dict, ...] = (),
     order: tuple[str, ...] | None = None,
     made: tuple[MadeBody, ...] = (),
-) -> tuple[dict, dict[str, bytes]]:
+) -> tuple[dict, dict[str, bytes], Bom, list[assembly_step.Placed]]:
     """The bill of materials, assembly STEP, assembly drawing and picture of the machine ``name``
     (module docstring) from its judged ``bodies`` (posed by ``links``, or ``at[link]`` at the
     start), the family's ``files``, the ``bought`` bodies (:meth:`BoughtBody.like`), the ``made``
     bodies placed by their own solids and the records ``own`` of the parts the study makes itself
     (their results, each with its ``stem``). Returns the record (``bill_of_materials``,
-    ``assembly_step``, ``assembly_drawing``) and the files."""
+    ``assembly_step``, ``assembly_drawing``), the files, and the bill of materials and the
+    assembly's placed bodies they were made from (what the machine's mass properties are read
+    from: :mod:`~transplanter.families.machines.loads`)."""
     bought = [BoughtBody.like(b) for b in bought]
     records = made_records(files, own)
     bom = machine_bom(name, files, records, bought_parts(bought))
@@ -231,7 +241,7 @@ def machine_documents(
         "balloons": len(shown),
         "order": list(order),
     }
-    return record, out
+    return record, out, bom, placed
 
 
 def check_documents(

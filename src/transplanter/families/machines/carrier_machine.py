@@ -52,6 +52,7 @@ record.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -60,11 +61,19 @@ from transplanter.core.errors import GeometryError, SpecError, check_number
 from transplanter.design.linkage.open_chain import OpenChain3R
 from transplanter.families.builder.making import Making, check_shop_files
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
-from transplanter.families.machines import carrier_bodies, carrier_judging, carrier_making, carrier_posing
-from transplanter.families.machines.assembly import check_documents, machine_documents
+from transplanter.families.machines import (
+    carrier_bodies,
+    carrier_judging,
+    carrier_loads,
+    carrier_making,
+    carrier_posing,
+    shafts,
+)
+from transplanter.families.machines.assembly import BoughtBody, check_documents, documents_and_assembly, start_pose
 from transplanter.families.machines.carrier_making import BOUGHT, CarrierPartsStudy
 from transplanter.families.machines.carrier_structure import CarrierStructure
 from transplanter.families.machines.layers import CarrierLayers
+from transplanter.families.machines.loads import supports_short
 from transplanter.families.machines.record import judged_again, obstacle_file, start_assembly
 from transplanter.families.mechanisms.cams import CamStudy
 from transplanter.families.pairs.toothed import ToothedPairStudy
@@ -206,9 +215,37 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         shown, bought, made = carrier_bodies.assembly_inputs(self, judged, shop)
         results["assembly"], more = start_assembly(self.name, shown, judged["links"], {})
         files.update(more)
-        documents, more = machine_documents(self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made)
+        documents, more, bom, placed = documents_and_assembly(
+            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made
+        )
         results.update(documents)
         files.update(more)
+        # the machine under load: masses from the assembly's bodies, the designed motion (issue 44)
+        links_of = {b.name: b.link for b in [*judged["bodies"], *made, *bought]}
+        results["loads"], more = carrier_loads.study_loads(
+            self,
+            placed,
+            bom,
+            links_of,
+            lambda link: start_pose(link, judged["links"], {}),
+            [BoughtBody.like(b) for b in bought],
+            teeth=(shop, carrier_posing.body_specs(self)),
+        )
+        files.update(more)
+        cam = results["loads"]["cam"]
+        if not cam["stays_on_the_cam"]:  # a finding: the machine as drawn has no force closure at the cam
+            record.setdefault("findings", []).append(
+                f"under load at {carrier_loads.SPEED * 30 / math.pi:g} r/min the follower's roller leaves the cam "
+                f"(the cam would have to pull {-cam['min_n']:g} N at {cam['min_at_driver_deg']:g} deg): nothing holds "
+                f"it on — a return spring on the follower lever giving at least {cam['return_torque_needed_nm']:g} N m "
+                f"about its pivot (at {cam['return_torque_at_driver_deg']:g} deg), or a grooved cam"
+            )
+        short = shafts.finding(results["loads"]["keys_and_shafts"], "its inertia and weight at 60 r/min")
+        if short:
+            record.setdefault("findings", []).append(short)
+        short = supports_short(results["loads"]["supports"], f"{self.structure.load_n:g} N")
+        if short:  # sized for the structure's stated load: a support the computed loads break fails the part
+            judged["problems"].append(short)
         files[f"{self.name}.machine.json"] = json_bytes(record)
         if judged["problems"]:
             raise GeometryError(f"{self.name}: " + "; ".join(judged["problems"]))

@@ -57,11 +57,12 @@ from transplanter.design.objectives import Site
 from transplanter.design.planetary import DifferentialTrain
 from transplanter.families.builder.making import Making, check_shop_files, manufacture
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
-from transplanter.families.machines import planetary_judging, planetary_parts, planetary_posing
-from transplanter.families.machines.assembly import check_documents, machine_documents
+from transplanter.families.machines import planetary_judging, planetary_loads, planetary_parts, planetary_posing, shafts
+from transplanter.families.machines.assembly import BoughtBody, check_documents, documents_and_assembly, start_pose
 from transplanter.families.machines.bought import planetary_bought
 from transplanter.families.machines.judging import PHASES
 from transplanter.families.machines.layers import Layers
+from transplanter.families.machines.loads import supports_short
 from transplanter.families.machines.planetary_structure import Structure
 from transplanter.families.machines.record import judged_again, start_assembly
 from transplanter.families.pairs.toothed import ToothedPairStudy
@@ -189,12 +190,35 @@ class PlanetaryMachineStudy(StudyDefaults):
         # the bill of materials, the assembly STEP and drawing with balloons, the picture
         shop, own = {**used, **files}, (results["arm_plate"], results["needle"], *made)
         bought = [*planetary_bought(planetary_parts.drawn(judged["bodies"], design), shop), *design.fitted]
-        documents, more = machine_documents(
-            self.name, judged["bodies"], links, at, shop, bought, own, made=planetary_parts.made_bodies(design)
+        made_bodies = planetary_parts.made_bodies(design)
+        documents, more, bom, placed = documents_and_assembly(
+            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies
         )
         results.update(documents)
         files.update(more)
+        # the machine under load: masses from the assembly's bodies, the designed motion (issue 44)
+        links_of = {b.name: b.link for b in [*judged["bodies"], *made_bodies, *bought]}
+        results["loads"], more = planetary_loads.study_loads(
+            self,
+            placed,
+            bom,
+            links_of,
+            lambda link: start_pose(link, links, at),
+            [BoughtBody.like(b) for b in bought],
+            planetary_posing.planting_metrics(self, module),
+            teeth=(used, names, module),
+        )
+        files.update(more)
+        short = shafts.finding(
+            results["loads"]["keys_and_shafts"], f"the stated {self.structure.needle_force_n:g} N at each needle"
+        )
+        if short:  # a finding: what the machine as drawn carries, and what would carry the stated load
+            results["machine"].setdefault("findings", []).append(short)
         files[f"{self.name}.machine.json"] = json_bytes(results["machine"])
+        sized = f"{results['machine']['structure']['loads']['design_radial_n']} N"
+        short = supports_short(results["loads"]["supports"], sized)
+        if short:  # sized for the structure's stated load: a support the computed loads break fails the part
+            judged["problems"].append(short)
         if judged["problems"]:
             raise GeometryError(f"{self.name}: " + "; ".join(judged["problems"]))
         params = {

@@ -213,7 +213,8 @@ def record(study, d: Design) -> dict:
             "reading": (
                 f"F (1 + S / r_min): {s.needle_force_n:g} N at the needle tip (S = {tr.arm.tip:.4g} mm) and the "
                 f"mesh reacting its moment at the planet's least pitch radius {r_min:.4g} mm, whole on every "
-                "support; no axial load (spur teeth); a stated figure until issue 44 computes the forces"
+                "support; no axial load (spur teeth); the design figure the supports are sized for — the machine's "
+                "computed loads (results.loads) check each of them"
             ),
         },
         "speeds_rpm": {

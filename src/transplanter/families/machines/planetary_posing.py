@@ -34,6 +34,7 @@ __all__ = [
     "inputs",
     "obstacles",
     "posed_machine",
+    "planting_metrics",
     "span",
     "start_poses",
 ]
@@ -117,6 +118,19 @@ def box_planes(study) -> dict[str, tuple[str, tuple[float, float]]]:
     }
 
 
+def planting_metrics(study, module: float):
+    """The train's planting metrics at its site (the soil surface's height in the machine frame, the
+    machine's travel): :func:`transplanter.design.agronomy.transplanting_metrics`."""
+    tr, site = study.train, study.site
+    return transplanting_metrics(
+        tr,
+        site.seedling_box,
+        site.plant_spacing,
+        site.planting_depth,
+        gearbox_radius(tr.pair.driver.max_radius().value, module),
+    )
+
+
 def obstacles(
     study, module: float, needle_link, needle: shapely.Polygon, turn: float | None = None
 ) -> tuple[dict[str, shapely.Polygon], dict]:
@@ -128,13 +142,7 @@ def obstacles(
     what it can gain between them, rounded up to the mm); the door's shelf carries the seedlings'
     end from there to its lip."""
     tr, site, st = study.train, study.site, study.structure
-    soil = transplanting_metrics(
-        tr,
-        site.seedling_box,
-        site.plant_spacing,
-        site.planting_depth,
-        gearbox_radius(tr.pair.driver.max_radius().value, module),
-    ).soil_level
+    soil = planting_metrics(study, module).soil_level
     u = np.array([math.cos(site.box_slope), math.sin(site.box_slope)])
     n = np.array([-u[1], u[0]])
     p = np.asarray(site.seedling_box, dtype=float)

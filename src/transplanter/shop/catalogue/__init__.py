@@ -15,7 +15,9 @@ standard and edition, and which maker's catalogue or transcription, its figures 
   screws (:func:`screw`), ISO 4032 nuts (:func:`nut`), ISO 7089/7090 washers (:func:`washer`);
 * :mod:`~transplanter.shop.catalogue.rings` -- DIN 471/472 retaining rings and their grooves
   (:func:`circlip_for_shaft`, :func:`circlip_for_bore`);
-* :mod:`~transplanter.shop.catalogue.fits` -- ISO 286-2 deviations for h6, j6, k6, H7 (:func:`fit`).
+* :mod:`~transplanter.shop.catalogue.fits` -- ISO 286-2 deviations for h6, j6, k6, H7 (:func:`fit`);
+* :mod:`~transplanter.shop.catalogue.gear_materials` -- ISO 6336-5 allowable stress numbers of the
+  gear materials a source at hand gives (``gear_material``).
 
 Every chosen part has ``designation``, ``standard``, ``name`` and ``mass_kg``: what
 :class:`transplanter.shop.bom.BoughtPart` takes.
