@@ -37,7 +37,6 @@ Examples
 from __future__ import annotations
 
 import functools
-import io
 import math
 from dataclasses import dataclass
 
@@ -323,10 +322,7 @@ def write_checked(name: str, placed: list[Placed]) -> tuple[bytes, dict]:
         occurrence = tool.AddComponent(root, parts[p.product], x.TopLoc_Location(_trsf(occ, p.at)))
         _name(x, occurrence, p.label)
     tool.UpdateAssemblies()
-    occ.STEPControl_Controller.Init_s()
-    occ.Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
-    occ.Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
-    occ.Interface_Static.SetCVal_s("write.step.unit", "MM")
+    step.write_settings(occ)
     writer = x.STEPCAFControl_Writer()
     writer.SetNameMode(True)
     if not writer.Transfer(doc, occ.STEPControl_StepModelType.STEPControl_AsIs):
@@ -334,12 +330,7 @@ def write_checked(name: str, placed: list[Placed]) -> tuple[bytes, dict]:
     inner = writer.ChangeWriter()
     step._fixed_header(occ, inner, name)
     _number_occurrences(inner.Model())
-    out = occ.StepData_StepWriter(inner.Model())
-    out.SendModel(inner.WS().Protocol())
-    buffer = io.BytesIO()
-    if not out.Print(buffer):
-        raise ExportError(f"cannot write the assembly STEP {name}")
-    data = buffer.getvalue()
+    data = step.model_bytes(occ, inner, f"the assembly STEP {name}")
     return data, {"bodies": len(placed), "parts": len(parts), "volume_rel_error": significant(worst), "reread": False}
 
 

@@ -50,7 +50,17 @@ from transplanter.core.errors import ExportError, GeometryError
 from transplanter.core.tolerances import FLAT_ARC_RADIUS_MM
 from transplanter.shop.arcs import bulge_area, bulge_points
 
-__all__ = ["arcs_area", "prism", "released_memory", "step_bytes", "read_step", "SolidReport", "solid_report"]
+__all__ = [
+    "arcs_area",
+    "prism",
+    "released_memory",
+    "step_bytes",
+    "write_settings",
+    "model_bytes",
+    "read_step",
+    "SolidReport",
+    "solid_report",
+]
 
 
 #: what the file says wrote it
@@ -356,15 +366,31 @@ def _fixed_header(occ, writer, name: str) -> None:
     header.SetPreprocessorVersion(occ.HString(ORIGINATING_SYSTEM))
 
 
-def step_bytes(name: str, shape) -> bytes:
-    """AP214 STEP of an OCC solid (:func:`prism`; see the module docstring), in mm, as bytes."""
-    occ = _occ()
+def write_settings(occ) -> None:
+    """The STEP writer's settings every file of the package is written with: AP214, mm, no PCURVE."""
     occ.STEPControl_Controller.Init_s()  # the write.* settings exist once the controller is set up
     occ.Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
     # no 2D curves of the edges on their faces (PCURVE): optional in STEP, derived by every reader
     # for planes and cylinders, and two thirds of the file (a 1260-face gear: 6.0 -> 2.2 MB)
     occ.Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
     occ.Interface_Static.SetCVal_s("write.step.unit", "MM")
+
+
+def model_bytes(occ, writer, what: str) -> bytes:
+    """The STEP file of a ``writer``'s transferred model (its header fixed first) as bytes;
+    ExportError naming ``what`` when OpenCASCADE cannot print it."""
+    out = occ.StepData_StepWriter(writer.Model())
+    out.SendModel(writer.WS().Protocol())
+    buffer = io.BytesIO()
+    if not out.Print(buffer):
+        raise ExportError(f"cannot write {what}")
+    return buffer.getvalue()
+
+
+def step_bytes(name: str, shape) -> bytes:
+    """AP214 STEP of an OCC solid (:func:`prism`; see the module docstring), in mm, as bytes."""
+    occ = _occ()
+    write_settings(occ)
     writer = occ.STEPControl_Writer()
     # compgraph=False: the session's entity graph and its check of every entity (quadratic in a
     # face's edge count: 60 % of a ring gear's export) are for its own file writer; the model is
@@ -372,12 +398,7 @@ def step_bytes(name: str, shape) -> bytes:
     if writer.Transfer(shape, occ.STEPControl_StepModelType.STEPControl_AsIs, False) != occ.IFSelect_RetDone:
         raise ExportError(f"cannot write the STEP of {name}: OpenCASCADE refused the solid")
     _fixed_header(occ, writer, name)
-    out = occ.StepData_StepWriter(writer.Model())
-    out.SendModel(writer.WS().Protocol())
-    buffer = io.BytesIO()
-    if not out.Print(buffer):
-        raise ExportError(f"cannot write the STEP of {name}")
-    data = buffer.getvalue()
+    data = model_bytes(occ, writer, f"the STEP of {name}")
     # the writer numbers its products per process ('... translator 8.0 3'): name the part instead
     return re.sub(rb"PRODUCT\('[^']*',\s*'[^']*'", b"PRODUCT('%s','%s'" % (name.encode(), name.encode()), data, count=1)
 

@@ -208,8 +208,13 @@ def shaking_record(loads: Loads, n_harmonics: int = 6) -> dict:
 
 
 def mass_record(lumps: dict[str, tuple[Lump, ...]]) -> dict:
-    """Each moving link's mass (kg), centre of mass (mm, its frame) and moment of inertia about its
-    centre of mass (kg·mm², about z), from its lumps."""
+    """Each moving link's mass (kg), centre of mass (mm) and moment of inertia about its centre of
+    mass (kg·mm², about z), from its lumps. The centre is in the **link's frame** — the frame its
+    pose moves, which is its main body's drawing frame as mounted: for a link whose main body is
+    mounted face down (a mirrored gear) its y is that drawing's mirrored; z across the machine.
+    Every body of the assembly counts, the keys inside their hubs too (bought bodies of the
+    assembly STEP, not bodies of the clearance judge or the motion table: they never meet
+    anything their hub and shaft do not already stand for)."""
     out = {}
     for link in sorted(lumps):
         ls = lumps[link]
