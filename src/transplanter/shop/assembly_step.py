@@ -45,7 +45,7 @@ import numpy as np
 from transplanter.core.errors import ExportError, GeometryError, SpecError, check_number
 from transplanter.core.precision import significant
 from transplanter.core.tolerances import SOLID_VOLUME_REL
-from transplanter.shop import step
+from transplanter.shop import step, step_writing
 
 __all__ = ["Placed", "Slab", "Solid", "frame", "solid_of", "step_bytes", "write_checked"]
 
@@ -322,15 +322,15 @@ def write_checked(name: str, placed: list[Placed]) -> tuple[bytes, dict]:
         occurrence = tool.AddComponent(root, parts[p.product], x.TopLoc_Location(_trsf(occ, p.at)))
         _name(x, occurrence, p.label)
     tool.UpdateAssemblies()
-    step.write_settings(occ)
+    step_writing.write_settings(occ)
     writer = x.STEPCAFControl_Writer()
     writer.SetNameMode(True)
     if not writer.Transfer(doc, occ.STEPControl_StepModelType.STEPControl_AsIs):
         raise ExportError(f"cannot write the assembly STEP {name}: OpenCASCADE refused the document")
     inner = writer.ChangeWriter()
-    step._fixed_header(occ, inner, name)
+    step_writing.fixed_header(occ, inner, name)
     _number_occurrences(inner.Model())
-    data = step.model_bytes(occ, inner, f"the assembly STEP {name}")
+    data = step_writing.model_bytes(occ, inner, f"the assembly STEP {name}")
     return data, {"bodies": len(placed), "parts": len(parts), "volume_rel_error": significant(worst), "reread": False}
 
 

@@ -36,7 +36,6 @@ import contextlib
 import ctypes
 import ctypes.util
 import functools
-import io
 import math
 import os
 import re
@@ -49,22 +48,11 @@ import shapely
 from transplanter.core.errors import ExportError, GeometryError
 from transplanter.core.tolerances import FLAT_ARC_RADIUS_MM
 from transplanter.shop.arcs import bulge_area, bulge_points
+from transplanter.shop.step_writing import fixed_header, model_bytes, write_settings
 
-__all__ = [
-    "arcs_area",
-    "prism",
-    "released_memory",
-    "step_bytes",
-    "write_settings",
-    "model_bytes",
-    "read_step",
-    "SolidReport",
-    "solid_report",
-]
+__all__ = ["arcs_area", "prism", "released_memory", "step_bytes", "read_step", "SolidReport", "solid_report"]
 
 
-#: what the file says wrote it
-ORIGINATING_SYSTEM = "transplanter (OpenCASCADE STEP processor)"
 
 
 def arcs_area(contours: list[tuple[np.ndarray, bool]]) -> float:
@@ -355,38 +343,6 @@ def _sectors(occ, contours, width: float):
     return solid
 
 
-def _fixed_header(occ, writer, name: str) -> None:
-    header = occ.MakeHeader(writer.Model())
-    header.SetName(occ.HString(name))
-    header.SetTimeStamp(occ.HString("1970-01-01T00:00:00"))
-    header.SetAuthorValue(1, occ.HString(""))
-    header.SetOrganizationValue(1, occ.HString(""))
-    header.SetOriginatingSystem(occ.HString(ORIGINATING_SYSTEM))
-    header.SetAuthorisation(occ.HString(""))
-    header.SetPreprocessorVersion(occ.HString(ORIGINATING_SYSTEM))
-
-
-def write_settings(occ) -> None:
-    """The STEP writer's settings every file of the package is written with: AP214, mm, no PCURVE."""
-    occ.STEPControl_Controller.Init_s()  # the write.* settings exist once the controller is set up
-    occ.Interface_Static.SetCVal_s("write.step.schema", "AP214IS")
-    # no 2D curves of the edges on their faces (PCURVE): optional in STEP, derived by every reader
-    # for planes and cylinders, and two thirds of the file (a 1260-face gear: 6.0 -> 2.2 MB)
-    occ.Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
-    occ.Interface_Static.SetCVal_s("write.step.unit", "MM")
-
-
-def model_bytes(occ, writer, what: str) -> bytes:
-    """The STEP file of a ``writer``'s transferred model (its header fixed first) as bytes;
-    ExportError naming ``what`` when OpenCASCADE cannot print it."""
-    out = occ.StepData_StepWriter(writer.Model())
-    out.SendModel(writer.WS().Protocol())
-    buffer = io.BytesIO()
-    if not out.Print(buffer):
-        raise ExportError(f"cannot write {what}")
-    return buffer.getvalue()
-
-
 def step_bytes(name: str, shape) -> bytes:
     """AP214 STEP of an OCC solid (:func:`prism`; see the module docstring), in mm, as bytes."""
     occ = _occ()
@@ -397,7 +353,7 @@ def step_bytes(name: str, shape) -> bytes:
     # written by the STEP writer that one calls, giving the same bytes
     if writer.Transfer(shape, occ.STEPControl_StepModelType.STEPControl_AsIs, False) != occ.IFSelect_RetDone:
         raise ExportError(f"cannot write the STEP of {name}: OpenCASCADE refused the solid")
-    _fixed_header(occ, writer, name)
+    fixed_header(occ, writer, name)
     data = model_bytes(occ, writer, f"the STEP of {name}")
     # the writer numbers its products per process ('... translator 8.0 3'): name the part instead
     return re.sub(rb"PRODUCT\('[^']*',\s*'[^']*'", b"PRODUCT('%s','%s'" % (name.encode(), name.encode()), data, count=1)
