@@ -25,7 +25,7 @@ import numpy as np
 
 from transplanter.families import load_family
 from transplanter.machine.bodies import PlanetaryMachine
-from transplanter.machine.dynamics import Drive, Machine, Mesh, Pin, PointLoad, _motion, solve
+from transplanter.machine.dynamics import Drive, Machine, Mesh, Pin, PointLoad, link_motion, solve
 from transplanter.machine.mass import Lump
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -79,7 +79,7 @@ def main(n: int = 360) -> None:
 
     def rates():
         for name in m.moving:
-            _motion(m.links[name], theta, speed)
+            link_motion(m.links[name], theta, speed)
 
     loads = solve(m, theta, speed)
     t_pose, t_rates, t_dyn = best(poses), best(rates), best(lambda: solve(m, theta, speed))

@@ -80,7 +80,7 @@ __all__ = [
     "Machine",
     "Loads",
     "solve",
-    "angular_speed",
+    "angular_speed", "link_motion", "Motion",
     "equivalent_load",
 ]
 
@@ -231,7 +231,7 @@ _OFFSETS = np.arange(-2, 3)
 
 
 @dataclass(frozen=True)
-class _Motion:
+class Motion:
     """A link's frame over θ: origin ``o`` (n, 2) mm, angle ``a``, velocity, acceleration (per s)."""
 
     o: np.ndarray
@@ -256,7 +256,7 @@ def _pose(link, theta: np.ndarray) -> np.ndarray:
     return np.stack([x, y, a], axis=-1)
 
 
-def _motion(link, theta: np.ndarray, speed: float, h: float = STEP_RAD) -> _Motion:
+def link_motion(link, theta: np.ndarray, speed: float, h: float = STEP_RAD) -> Motion:
     grid = theta[None, :] + h * _OFFSETS[:, None]  # (5, n)
     p = _pose(link, grid.ravel()).reshape(5, -1, 3)
     p = p - p[2]
@@ -264,19 +264,19 @@ def _motion(link, theta: np.ndarray, speed: float, h: float = STEP_RAD) -> _Moti
     d1 = np.tensordot(_W1, p, axes=1) / h * speed
     d2 = np.tensordot(_W2, p, axes=1) / h**2 * speed**2
     base = _pose(link, theta)
-    return _Motion(base[:, :2], base[:, 2], d1[:, :2], d1[:, 2], d2[:, :2], d2[:, 2])
+    return Motion(base[:, :2], base[:, 2], d1[:, :2], d1[:, 2], d2[:, :2], d2[:, 2])
 
 
 def angular_speed(link, theta: np.ndarray, speed: float) -> np.ndarray:
     """The link's angular velocity (rad/s, counter-clockwise +) at driver angles ``theta`` turning at ``speed``."""
-    return _motion(link, np.atleast_1d(np.asarray(theta, dtype=float)), speed).w
+    return link_motion(link, np.atleast_1d(np.asarray(theta, dtype=float)), speed).w
 
 
 def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
     return r[..., 0] * f[..., 1] - r[..., 1] * f[..., 0]
 
 
-def _pitch_point(ma: _Motion, mb: _Motion, name: str) -> np.ndarray:
+def _pitch_point(ma: Motion, mb: Motion, name: str) -> np.ndarray:
     """The relative instant centre of two links: where their velocities are equal."""
     dw = ma.w - mb.w
     if np.any(np.abs(dw) < 1e-9 * (np.abs(ma.w) + np.abs(mb.w) + 1e-12)):
@@ -295,7 +295,7 @@ def _mesh_frame(m: Machine, mesh: Mesh, theta: np.ndarray, speed: float, h: floa
         sep = (ob - oa) / np.linalg.norm(ob - oa, axis=1)[:, None]
         return oa + mesh.fraction * (ob - oa), np.stack([-sep[:, 1], sep[:, 0]], axis=1), sep
     flat = (theta[None, :] + h * _OFFSETS[:, None]).ravel()
-    ma, mb = _motion(m.links[mesh.a], flat, speed, h), _motion(m.links[mesh.b], flat, speed, h)
+    ma, mb = link_motion(m.links[mesh.a], flat, speed, h), link_motion(m.links[mesh.b], flat, speed, h)
     p = _pitch_point(ma, mb, mesh.name)
     t = _path_tangent(p, mb)
     pitch, ob = p.reshape(5, -1, 2)[2], mb.o.reshape(5, -1, 2)[2]
@@ -306,7 +306,7 @@ def _mesh_frame(m: Machine, mesh: Mesh, theta: np.ndarray, speed: float, h: floa
     return pitch, t, side * towards_b[:, None] * n
 
 
-def _path_tangent(p: np.ndarray, mo: _Motion) -> np.ndarray:
+def _path_tangent(p: np.ndarray, mo: Motion) -> np.ndarray:
     """The unit tangent (n, 2, machine frame) of the path of points ``p`` (5n, 2: the stencil's) in ``mo``'s frame."""
     c, s = np.cos(mo.a), np.sin(mo.a)
     d = p - mo.o
@@ -320,7 +320,7 @@ def _path_tangent(p: np.ndarray, mo: _Motion) -> np.ndarray:
 def _contact_frame(m: Machine, con: Contact, theta: np.ndarray, speed: float, h: float):
     """The roller's centre (n, 2) and the contact's normal (n, 2), away from ``a``'s origin."""
     flat = (theta[None, :] + h * _OFFSETS[:, None]).ravel()
-    ma, mb = _motion(m.links[con.a], flat, speed, h), _motion(m.links[con.b], flat, speed, h)
+    ma, mb = link_motion(m.links[con.a], flat, speed, h), link_motion(m.links[con.b], flat, speed, h)
     p = mb.point(np.array(con.point))[0]
     t = _path_tangent(p, ma)
     p, oa = p.reshape(5, -1, 2)[2], ma.o.reshape(5, -1, 2)[2]
@@ -348,7 +348,7 @@ def solve(m: Machine, theta: np.ndarray, speed: float, h: float = STEP_RAD) -> L
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
     n = theta.size
     moving = m.moving
-    motions = {k: _motion(m.links[k], theta, speed, h) for k in moving}
+    motions = {k: link_motion(m.links[k], theta, speed, h) for k in moving}
     g = np.array([0.0, -m.gravity * 1e3])  # mm/s²
     # each link's lumps: positions, accelerations (machine frame), the inertia terms
     rows = {k: 3 * i for i, k in enumerate(moving)}
@@ -441,7 +441,7 @@ def _energy_rate(m: Machine, theta: np.ndarray, speed: float, h: float) -> np.nd
     grid = (theta[None, :] + h * _OFFSETS[:, None]).ravel()
     e = np.zeros(grid.size)
     for k in m.moving:
-        mo = _motion(m.links[k], grid, speed, h)
+        mo = link_motion(m.links[k], grid, speed, h)
         for lump in m.lumps.get(k, ()):
             pos, vel, _ = mo.point(np.array(lump.com[:2]))
             e += 0.5 * lump.mass * (vel**2).sum(1) + 0.5 * lump.izz * mo.w**2 + lump.mass * m.gravity * 1e3 * pos[:, 1]

@@ -296,7 +296,7 @@ def needle_capacity(study, lumps, metrics, ks) -> dict:
     left, where = margin(carried)
     return {
         "n": carried,
-        "limited_by": margin(carried + CAPACITY_TOL_N)[1],
+        "limited_by": where,  # the least safety there: the first to fall short above it
         "least_margin_there": rounded(left, 4),
         "stated_n": stated,
         "reading": (

@@ -34,7 +34,7 @@ import numpy as np
 from transplanter.core.errors import GeometryError, SpecError
 from transplanter.core.precision import rounded
 from transplanter.families.machines.loads import link_lumps, link_of, z_span
-from transplanter.machine.dynamics import STEP_RAD, Loads, Machine
+from transplanter.machine.dynamics import Loads, Machine, Motion, link_motion
 from transplanter.shop.catalogue import key_for, table
 
 __all__ = [
@@ -66,8 +66,6 @@ _SHAFT_METHOD = "Shigley 9th ed. DE-Goodman (eq. 7-7), Marin eq. 6-18..6-20, Tab
 _RELIABILITY_99 = 0.814  # k_e, Shigley 9th ed. Table 6-5
 _GROOVE_MM = 2.0  # a slab this narrow, smaller than both neighbours, is a retaining ring's groove
 _FIBRES = 72
-_W1 = np.array([1.0, -8.0, 0.0, 8.0, -1.0]) / 12.0
-_W2 = np.array([-1.0, 16.0, -30.0, 16.0, -1.0]) / 12.0
 
 
 @dataclass(frozen=True)
@@ -119,27 +117,7 @@ def bending_moment(z: np.ndarray, forces: list[tuple[float, np.ndarray]]) -> np.
     return np.einsum("sk,nkd->nsd", arm, fs) * 1e-3
 
 
-class _Kin:
-    """A link's pose over the cycle and its derivatives (five-point stencils in the driver angle)."""
-
-    def __init__(self, link, theta: np.ndarray, speed: float, h: float = STEP_RAD):
-        grid = theta[None, :] + h * np.arange(-2, 3)[:, None]
-        x, y, a = (np.broadcast_to(np.asarray(v, dtype=float), grid.size) for v in link.pose(grid.ravel()))
-        self.o = np.stack([x, y], axis=-1).reshape(5, -1, 2)
-        a = a.reshape(5, -1)
-        self.a = a[2] + np.angle(np.exp(1j * (a - a[2])))
-        self.speed, self.h = speed, h
-        self.alpha = np.tensordot(_W2, self.a, axes=1) / h**2 * speed**2
-
-    def point(self, local) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Position (mm), velocity (mm/s), acceleration (mm/s²) of ``local`` (2,) of the link's frame."""
-        c, s = np.cos(self.a), np.sin(self.a)
-        (lx, ly), w = (float(v) for v in local[:2]), self.speed / self.h
-        p = self.o + np.stack([c * lx - s * ly, s * lx + c * ly], axis=-1)
-        return p[2], np.tensordot(_W1, p, axes=1) * w, np.tensordot(_W2, p, axes=1) * w**2
-
-
-def _lump_forces(lumps, kin: _Kin, gravity: float) -> list[tuple[float, np.ndarray, np.ndarray, float]]:
+def _lump_forces(lumps, kin: Motion, gravity: float) -> list[tuple[float, np.ndarray, np.ndarray, float]]:
     """Each lump's d'Alembert force ``m (g - a)`` N with its position (mm), z (mm) and ``-I α`` (N·m)."""
     out = []
     for lump in lumps:
@@ -152,7 +130,7 @@ def _lump_forces(lumps, kin: _Kin, gravity: float) -> list[tuple[float, np.ndarr
 def _joint_forces(m: Machine, loads: Loads, link: str, names=None) -> list[tuple[float, np.ndarray, np.ndarray]]:
     """The forces ``(z mm, F (n, 2) N, point (n, 2) mm)`` that the machine's joints and loads put on
     ``link`` (only those named ``names``, if given): pins' supports, meshes, contacts, point loads."""
-    kins, out = {k: _Kin(m.links[k], loads.theta, loads.speed) for k in m.moving}, []
+    kins, out = {k: link_motion(m.links[k], loads.theta, loads.speed) for k in m.moving}, []
     for j, p in enumerate(m.pins):
         if link in (p.a, p.b) and (names is None or p.name in names):
             sign = 1.0 if p.b == link else -1.0
@@ -182,8 +160,8 @@ def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
 def hub_torque(m: Machine, loads: Loads, link: str, lumps, joints: tuple[str, ...]) -> np.ndarray:
     """The torque (n,) N·m about ``link``'s origin the shaft must put on a hub whose bodies are
     ``lumps`` on ``link``, with the ``joints`` (names) acting on it: inertia and weight less the joints'."""
-    kin = _Kin(m.links[link], loads.theta, loads.speed)
-    o = kin.o[2]
+    kin = link_motion(m.links[link], loads.theta, loads.speed)
+    o = kin.o
     t = np.zeros(loads.theta.size)
     for _, f, pos, spin in _lump_forces(lumps, kin, m.gravity):
         t -= _cross(pos - o, f) * 1e-3 + spin
@@ -339,7 +317,7 @@ def shaft_rows(m: Machine, loads: Loads, placed, bom, links_of, shafts, keys, ke
         if body is None:
             raise SpecError(f"shaft = {name!r}: not a placed body of the machine")
         link = link_of(links_of[name])
-        kin = _Kin(m.links[link], loads.theta, loads.speed)
+        kin = link_motion(m.links[link], loads.theta, loads.speed)
         forces = [(z, f) for z, f, _ in _joint_forces(m, loads, link)]
         forces += [(z, f) for z, f, _, _ in _lump_forces(m.lumps.get(link, ()), kin, m.gravity)]
         mine = [kj for kj in keys if kj.shaft == name]
@@ -353,7 +331,7 @@ def shaft_rows(m: Machine, loads: Loads, placed, bom, links_of, shafts, keys, ke
         for z, kind, ro, ri in _sections(body, spans):
             mvec = bending_moment(np.array([z]), forces)[:, 0]
             t = torque if mids and min(mids) <= z <= max(mids) else np.zeros_like(torque)
-            n_f, n_y, sa, sm, se = _safety(mvec, kin.a[2], t, kind, ro, ri, st["rm_mpa"], st["re_mpa"])
+            n_f, n_y, sa, sm, se = _safety(mvec, kin.a, t, kind, ro, ri, st["rm_mpa"], st["re_mpa"])
             k = int(np.argmax(np.linalg.norm(mvec, axis=1)))
             n = min(n_f, n_y)
             row = {
