@@ -360,6 +360,29 @@ def test_a_narrow_approach_between_samples_is_bracketed():
     assert found.bound <= truth and math.cos(found.theta + math.pi / 8) > 0.999
 
 
+def test_bodies_at_rest_in_their_frame_are_measured_once_and_moving_ones_are_not():
+    """A ring turning in a bore, both posed in the bore's frame with speed 0 (the ring's points
+    occupy one annulus whatever its angle): one measure, the radial gap; the same ring stated as
+    moving (its points' true speed, 0.2 mm/rad) is searched over the cycle and finds the same gap."""
+
+    def annulus(outer, inner):
+        disc = shapely.Point(0.0, 0.0).buffer
+        return disc(outer, quad_segs=64).difference(disc(inner, quad_segs=64))
+
+    bore, ring = annulus(20.0, 10.5), annulus(10.0, 5.0)
+
+    def turning(t):
+        t = np.asarray(t, dtype=float)
+        return np.zeros_like(t), np.zeros_like(t), 0.02 * t  # 0.2 mm/rad at the ring's 10 mm
+
+    theta = 2 * math.pi * np.arange(90) / 90
+    still = closest_approach(Posed(ring, turning, speed=0.0), Posed(bore, Posed.fixed, speed=0.0), theta)
+    moving = closest_approach(Posed(ring, turning, speed=0.2), Posed(bore, Posed.fixed, speed=0.0), theta)
+    assert still.evaluations == 1 and moving.evaluations >= len(theta)
+    assert abs(still.distance - 0.5) < 1e-3 and abs(moving.distance - still.distance) < CLEARANCE_TOL_MM
+    assert np.all(still.sampled == still.distance) and still.bound == still.distance
+
+
 @pytest.mark.parametrize(
     ("family", "arms"), [("planetary_seed004", ("arm 1: ", "arm 3: ")), ("potseedling_seed002", ("arm: ",))]
 )

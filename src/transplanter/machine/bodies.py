@@ -22,6 +22,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from collections.abc import Callable
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -320,8 +321,6 @@ def clearances(
     """Each pair's closest approach over the cycle sampled by ``theta`` (rad; refined between
     the samples under the speed bounds, :func:`clearance.closest_approach`); ``bodies`` as
     :func:`posed` gives them."""
-    from concurrent.futures import ThreadPoolExecutor
-
     def judge(p: Pair) -> Judged:
         found = closest_approach(bodies[p.a], bodies[p.b], theta, tol)
         return Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
@@ -353,18 +352,18 @@ def clearances_under_play(
     nominal: dict[frozenset, Judged],
     settle: float,
     tol: float = CLEARANCE_TOL_MM,
+    wrap: Callable[[Posed], Posed] | None = None,
 ) -> list[Judged]:
     """Each pair's closest approach with every link in ``playing`` (the planets) at either end of
     its play, ± ``turn`` rad, independently: the smallest over those poses, for the pairs that
     have a playing link (the others are not returned); ``ready`` the bodies as :func:`posed`
-    gives them on ``links``.
+    gives them on ``links`` (any frame: a turn about its own origin is the same in all), each
+    turned body through ``wrap`` if given (as the nominal figure was measured).
 
     A turn of ``turn`` moves no point of a body further than ``turn`` times its reach, so a pair
     whose ``nominal`` closest approach less those moves stays at or above ``settle`` (the
     clearance judged against) is settled without measuring: its figure is that lower bound,
     marked not ``exact``."""
-    from concurrent.futures import ThreadPoolExecutor
-
     by_name = {b.name: b for b in bodies}
     todo = [p for p in pairs if {by_name[p.a].link, by_name[p.b].link} & playing]
 
@@ -389,7 +388,7 @@ def clearances_under_play(
                 # (a turn about the link's origin leaves its speed bound and outlines as they were)
                 a = dataclasses.replace(ready[p.a], pose=turned(links[la], sa * turn).pose)
                 b = dataclasses.replace(ready[p.b], pose=turned(links[lb], (sa if lb == la else sb) * turn).pose)
-                found = closest_approach(a, b, theta, tol)
+                found = closest_approach(wrap(a), wrap(b), theta, tol) if wrap else closest_approach(a, b, theta, tol)
                 if worst is None or found.distance < worst.distance:
                     worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
         assert worst is not None

@@ -207,11 +207,16 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     its ends measured on finer outlines until twice their slack is within the tolerance,
     then is halved; the others cannot hold the minimum and are set aside. The figure returned
     is an upper bound of the true minimum, and the true minimum is within the tolerance of it.
-    Overlapping bodies (a distance of 0 on the finest outlines) stop the search at once."""
+    Overlapping bodies (a distance of 0 on the finest outlines) stop the search at once; two
+    bodies of which neither moves (both speeds 0: a symmetric shaft turning in its bore, seen from
+    the bore's frame) keep one distance, measured once on the sections."""
     theta = np.asarray(theta, dtype=float)
     if theta.ndim != 1 or len(theta) < 2 or np.any(np.diff(theta) <= 0) or theta[-1] - theta[0] >= 2 * math.pi:
         raise GeometryError("closest_approach: theta must increase over less than one turn")
     lip = float(a.speed + b.speed)
+    if lip == 0.0:  # neither moves (a shaft in its bore seen from their frame): one pose tells all
+        d = float(_distances(a, b, theta[:1])[0])
+        return Approach(d, float(np.mod(theta[0], 2 * math.pi)), d, 1, np.full(len(theta), d))
     # two bodies fixed or turning about the origin are never nearer than their radial gap
     floor = 0.0
     if a.radii is not None and b.radii is not None:

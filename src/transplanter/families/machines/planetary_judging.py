@@ -177,37 +177,85 @@ def _there_and_back(ready: Posed, end: float) -> Posed:
     return dataclasses.replace(ready, pose=pose, speed=ready.speed * end / math.pi)
 
 
-def _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets) -> list:
+@dataclasses.dataclass(frozen=True)
+class _Frames:
+    """Where each pair is measured (:func:`_judged_in_frames`): the bodies posed in the machine's
+    frame and in the carrier's, with those frames' links; the motion table's last position ``end``
+    (rad) and the positions ``fine`` a there-and-back measure samples; and each pair's (in the
+    carrier's frame, there and back)."""
+
+    machine: dict
+    carrier: dict
+    links: dict
+    carrier_links: dict
+    end: float
+    fine: np.ndarray
+    of: dict
+
+    def groups(self, pairs) -> dict[tuple[bool, bool], list]:
+        out: dict[tuple[bool, bool], list] = {}
+        for p in pairs:
+            out.setdefault(self.of[frozenset((p.a, p.b))], []).append(p)
+        return out
+
+    def unwound(self, j: Judged, grid) -> Judged:
+        """A there-and-back figure's angle as the driver's, its samples on ``grid``."""
+        t = math.radians(j.at_deg) % (2 * math.pi)
+        at = math.degrees(self.end * (t / math.pi if t < math.pi else 2.0 - t / math.pi))
+        return dataclasses.replace(j, at_deg=at, sampled=j.sampled[: len(grid)])
+
+
+def _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets) -> tuple[list, _Frames]:
     """:func:`judge_pairs`, each pair measured in the machine's frame or the carrier's, whichever
     bounds their relative speed tighter (distances are the same in both): the carrier's settles a
     shaft turning in its bore at once. A pair with a body not back at its start after the turn
     (:func:`_not_periodic`) is measured to the motion table's last position and back
     (:func:`_there_and_back`, on twice the positions): its figure is over the positions the table
     poses and between them, not across the turn's end, where such a body jumps."""
+    carrier_links = _in_carrier(links, planets)
     machine = _posed_in(bodies, links, {"ring", "carrier", "fixed"}, symmetric)
-    carrier = _posed_in(bodies, _in_carrier(links, planets), {"ring", "carrier", "fixed"}, symmetric)
+    carrier = _posed_in(bodies, carrier_links, {"ring", "carrier", "fixed"}, symmetric)
     unwound = _not_periodic(bodies, links)
-    split: dict[tuple[bool, bool], list] = {}
-    for p in pairs:
-        in_carrier = carrier[p.a].speed + carrier[p.b].speed < machine[p.a].speed + machine[p.b].speed
-        split.setdefault((in_carrier, bool({p.a, p.b} & unwound)), []).append(p)
-    found = {}
     end = 2 * math.pi * (MOTION_POSITIONS - 1) / MOTION_POSITIONS
     there = math.pi * np.asarray(grid, dtype=float) / end  # t of each grid angle, then back through `end`
     fine = np.concatenate([there, [math.pi], 2 * math.pi - there[:0:-1]])
-    for (in_carrier, back), some in split.items():
+    of = {
+        frozenset((p.a, p.b)): (
+            carrier[p.a].speed + carrier[p.b].speed < machine[p.a].speed + machine[p.b].speed,
+            bool({p.a, p.b} & unwound),
+        )
+        for p in pairs
+    }
+    frames = _Frames(machine, carrier, links, carrier_links, end, fine, of)
+    found = {}
+    for (in_carrier, back), some in frames.groups(pairs).items():
         ready = carrier if in_carrier else machine
         if back:
             names = {n for p in some for n in (p.a, p.b)}
             ready = {n: _there_and_back(ready[n], end) for n in names}
         for v in judge_pairs(ready, some, fine if back else grid, gap, required):
             if back and v.judged is not None:  # t back to the driver's angle, the samples on the grid
-                t = math.radians(v.judged.at_deg) % (2 * math.pi)
-                at = math.degrees(end * (t / math.pi if t < math.pi else 2.0 - t / math.pi))
-                j = dataclasses.replace(v.judged, at_deg=at, sampled=v.judged.sampled[: len(grid)])
-                v = dataclasses.replace(v, judged=j)
+                v = dataclasses.replace(v, judged=frames.unwound(v.judged, grid))
             found[(v.pair.a, v.pair.b)] = v
-    return [found[(p.a, p.b)] for p in pairs], machine
+    return [found[(p.a, p.b)] for p in pairs], frames
+
+
+def _under_play(bodies, frames: _Frames, checked, grid, turn, planets, nominal, settle) -> dict:
+    """:func:`clearances_under_play` of the ``checked`` pairs, each in the frame and over the
+    positions its nominal figure was measured on (:func:`_judged_in_frames`): the same bound on
+    its relative speed, and a body not back at its start driven there and back, not across the
+    turn's end."""
+    out = {}
+    for (in_carrier, back), some in frames.groups(checked).items():
+        ready, links = (frames.carrier, frames.carrier_links) if in_carrier else (frames.machine, frames.links)
+        wrap = (lambda p: _there_and_back(p, frames.end)) if back else None
+        for j in clearances_under_play(
+            bodies, ready, links, some, frames.fine if back else grid, turn, planets, nominal, settle, wrap=wrap
+        ):
+            if back and j.exact:
+                j = frames.unwound(j, grid)
+            out[frozenset((j.pair.a, j.pair.b))] = j
+    return out
 
 
 def judge(
@@ -230,7 +278,8 @@ def judge(
     pairs = pairs_to_judge(bodies, links, joints, working, grid, frozenset(design.keep))
     gap = study.layers.min_axial_gap
     required = required_of(study, design)
-    verdicts, ready = _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets)
+    verdicts, frames = _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets)
+    ready = frames.machine
     judged = [v.judged for v in verdicts if v.judged is not None]  # measured in-plane: working or not
     in_plane = [v.judged for v in verdicts if v.kind == IN_PLANE]
     played = {}
@@ -241,10 +290,7 @@ def judge(
         checked = [j.pair for j in in_plane if {j.pair.a, j.pair.b} & on_planet]
         nominal = {frozenset((j.pair.a, j.pair.b)): j for j in in_plane}
         settle = max(study.clearance, BOX_CLEARANCE_MM)  # what the pairs are judged against
-        played = {
-            frozenset((j.pair.a, j.pair.b)): j
-            for j in clearances_under_play(bodies, ready, links, checked, grid, turn, planets, nominal, settle)
-        }
+        played = _under_play(bodies, frames, checked, grid, turn, planets, nominal, settle)
         link_of = {b.name: b.link for b in bodies}
         played.update(
             {k: j for k, j in nominal.items() if k not in played and {link_of[j.pair.a], link_of[j.pair.b]} & planets}

@@ -216,7 +216,9 @@ def study_loads(study, placed, bom, links_of: dict, pose_of, bought_bodies, metr
     ks = (placed, bom, bought, links_of, pose_of)
     record["keys_and_shafts"] = keys_and_shafts(study, m, loads, *ks)
     if not record["keys_and_shafts"]["pass"]:
-        record["keys_and_shafts"]["needle_force_capacity"] = needle_capacity(study, lumps, metrics, ks)
+        record["keys_and_shafts"]["needle_force_capacity"] = needle_capacity(
+            study, lumps, metrics, ks, record["keys_and_shafts"]
+        )
     return record, loads_picture(study.name, m, loads)
 
 
@@ -276,22 +278,28 @@ def _margin(rec: dict) -> tuple[float, str]:
     return low[0] - 1.0, low[1]
 
 
-def needle_capacity(study, lumps, metrics, ks) -> dict:
-    """The largest needle force (N) every key and shaft carries (Brent's method on the least safety
-    over the required one, to :data:`CAPACITY_TOL_N`): what the machine as drawn carries when the
-    stated force is more than that."""
+def needle_capacity(study, lumps, metrics, ks, at_stated: dict | None = None) -> dict:
+    """The largest needle force (N) every key and shaft carries (Brent's method, to
+    :data:`CAPACITY_TOL_N`, on the required safety over the least one, less 1 — nearly linear in the
+    force, as a key's pressure is: a few solves): what the machine as drawn carries when the stated
+    force is more than that. ``at_stated``: the keys and shafts record at the stated force, if known."""
     placed, bom, bought, links_of, pose_of = ks
     speed = study.train.carrier_speed
+    stated = study.structure.needle_force_n
+    known: dict[float, tuple[float, str]] = {}
+    if at_stated is not None:
+        known[stated] = _margin(at_stated)
 
     def margin(force: float) -> tuple[float, str]:
-        m, _ = model(study, lumps, placed, bought, metrics, needle_force=force)
-        return _margin(keys_and_shafts(study, m, machine_loads(m, speed), *ks))
+        if force not in known:
+            m, _ = model(study, lumps, placed, bought, metrics, needle_force=force)
+            known[force] = _margin(keys_and_shafts(study, m, machine_loads(m, speed), *ks))
+        return known[force]
 
-    stated = study.structure.needle_force_n
     low, where = margin(0.0)
     if low < 0.0:
         return {"n": 0.0, "limited_by": where, "reading": "short under the links' inertia and weight alone"}
-    found = optimize.brentq(lambda f: margin(f)[0], 0.0, stated, xtol=CAPACITY_TOL_N)
+    found = optimize.brentq(lambda f: 1.0 - 1.0 / (1.0 + margin(f)[0]), 0.0, stated, xtol=CAPACITY_TOL_N)
     carried = math.floor(found / CAPACITY_TOL_N) * CAPACITY_TOL_N
     left, where = margin(carried)
     return {
