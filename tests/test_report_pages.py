@@ -334,3 +334,18 @@ def test_a_built_page_leads_with_its_verdicts_and_links_every_legible_figure(bui
     names = [r[0][1] for t in page.tables if not t["head"] for r in t["rows"]]
     assert not [v for v in values if UNIT_IN_VALUE.search(v)]
     assert not [n for n in names if UNIT_IN_NAME.search(n)]
+
+
+def test_a_finding_of_a_built_machine_reads_as_withheld_not_as_a_proof_passed():
+    """A machine built with a finding (the roller leaves the cam): its finding is amber like a
+    withheld part's, the part's state stays green (built)."""
+    rec = {
+        "kind": "machine",
+        "files": {},
+        "parameters": {},
+        "results": {
+            "machine": {"findings": ["the roller leaves the cam"]},
+        },
+    }
+    page = _Page(family_report(_manifest({"machine": rec})).decode())
+    assert page.parts["machine"][:2] == ["p.proof withheld", "p.state built"]

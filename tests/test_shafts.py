@@ -78,3 +78,31 @@ def test_every_strength_row_cites_a_standard():
     rows = table("material_strengths")
     assert rows and all(r["source"].strip() and any(s in r["source"] for s in ("ISO", "EN ")) for r in rows)
     assert {r["name"] for r in rows} <= set(materials()) and notes("material_strengths")
+
+
+def test_a_finding_names_each_remedy_once_with_the_elements_it_is_for():
+    """Three arms' keys short for one reason read as one remedy; a shaft short at two sections
+    names the larger diameter; every element that passes stays out."""
+    from transplanter.families.machines.shafts import finding
+
+    hub = "a longer hub (8 mm now) or a second key"
+    keys = [{"key": f"key_arm_{k}", "pass": False, "resize": hub} for k in (3, 1, 2)]
+    keys.append({"key": "key_planet_1", "pass": True})
+    shafts = [
+        {"shaft": "planet_shaft_1", "pass": False, "resize_to_mm": 14},
+        {"shaft": "planet_shaft_1", "pass": False, "resize_to_mm": 16},
+        {"shaft": "ring_shaft", "pass": True},
+    ]
+    rec = {
+        "pass": False,
+        "keys": keys,
+        "shafts": shafts,
+        "smallest_key_safety": {"key": "key_arm_1", "safety": 0.42},
+        "smallest_shaft_safety": {"shaft": "planet_shaft_1", "section": "keyseat", "fatigue_safety": 0.5},
+        "needle_force_capacity": {"n": 21.5, "limited_by": "key_arm_1"},
+    }
+    text = finding(rec, "100 N")
+    assert text is not None and text.startswith("under 100 N 3 keys and 2 shaft sections fall short")
+    assert text.endswith(f"to carry it: key_arm_1, key_arm_2, key_arm_3: {hub}; planet_shaft_1: Ø16")
+    assert "carries 21.5 N" in text and "key_planet_1" not in text and "ring_shaft" not in text
+    assert finding({**rec, "pass": True}, "100 N") is None

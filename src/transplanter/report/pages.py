@@ -137,7 +137,9 @@ def _part(part: str, rec: dict) -> list[str]:
     if state == "failed":
         return [*out, f"<p class='{_CSS[state]}'>{html.escape(sentence)}</p>"]
     rows, proofs = headline(rec)
-    out += [f"<p class='proof {_CSS[state]}'>{html.escape(p)}</p>" for p in proofs]
+    # a finding is not a proof passed: it reads as one withheld does, whatever the part's state
+    shade = {p: _CSS["withheld" if p.startswith("finding") else state] for p in proofs}
+    out += [f"<p class='proof {shade[p]}'>{html.escape(p)}</p>" for p in proofs]
     out.append(f"<p class='state {_CSS[state]}'>{html.escape(sentence)}</p>")
     half = -(-len(rows) // 2) if len(rows) > _KEY_ROWS else len(rows)
     out.append(f"<div class='key'>{table(rows[:half], 'key')}{table(rows[half:], 'key')}</div>" if rows else "")

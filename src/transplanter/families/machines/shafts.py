@@ -396,10 +396,15 @@ def finding(rec: dict, under: str) -> str | None:
     cap = rec.get("needle_force_capacity")
     if cap:
         text += f"; the machine as drawn carries {cap['n']:g} N at each needle (limited by {cap['limited_by']})"
-    resize = sorted({f"{r['key']}: {r['resize']}" for r in keys if r.get("resize")})
+    remedies: dict[str, list[str]] = {}  # one remedy, the elements it is for (three arms' keys: one line)
+    for r in keys:
+        if r.get("resize"):
+            remedies.setdefault(str(r["resize"]), []).append(r["key"])
     to: dict[str, float] = {}
     for r in sections:
         if r.get("resize_to_mm"):
             to[r["shaft"]] = max(to.get(r["shaft"], 0.0), float(r["resize_to_mm"]))
-    resize += [f"{name} Ø{d:g}" for name, d in sorted(to.items())]
+    for name, d in to.items():
+        remedies.setdefault(f"Ø{d:g}", []).append(name)
+    resize = sorted(f"{', '.join(sorted(names))}: {what}" for what, names in remedies.items())
     return text + ("; to carry it: " + "; ".join(resize) if resize else "")
