@@ -90,3 +90,19 @@ def test_a_mounted_link_is_rigid_to_its_base_and_bounds_its_speed():
     assert np.allclose(np.hypot(x, y), 70.0) and tube.speed == pytest.approx(70.0)
     moving = moving_links({"carrier": base, tube.name: tube, "fixed": Link.fixed()}, theta)
     assert not moving("carrier", tube.name) and moving("fixed", tube.name)
+
+
+def test_a_planet_bearing_leaves_its_sleeve_a_wall_whatever_the_load():
+    """Under a light load the thinnest bearing that carries it (a 61800 on Ø10) has a bore circlip
+    whose lugs leave no sleeve: the structure takes the next that does (61900); under seed 004's
+    former 100 N (1 153 N on each support) the 6000; a load nothing carries names the parameter."""
+    from transplanter.families.machines.planetary_structure import Structure, _planet_bearing
+    from transplanter.shop.catalogue import bearing_for
+
+    light, heavy = Structure(needle_force_n=30.0), Structure(needle_force_n=100.0)
+    assert bearing_for(10.0, 60.0, 345.8).designation.startswith("61800")
+    assert _planet_bearing(10.0, 60.0, 345.8, light).designation.startswith("61900")
+    assert _planet_bearing(10.0, 60.0, 1152.8, heavy).designation.startswith("6000")
+    with pytest.raises(SpecError, match="no planet bearing for Ø10 at needle_force_n = 5000 N: ") as e:
+        _planet_bearing(10.0, 60.0, 5e4, Structure(needle_force_n=5000.0))
+    assert len(str(e.value)) < 400

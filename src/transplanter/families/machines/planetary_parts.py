@@ -129,7 +129,7 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
             fl,
             "ring",
             "ring_flange",
-            light,
+            s.flange_material,
             (
                 "ring flange: drives the ring through the spacer from the hollow ring shaft; mates with the spacer "
                 "and the ring shaft's key",

@@ -12,7 +12,8 @@ teeth). Speeds are the train's: carrier ``carrier_speed``, ring ``ω1/ω2`` of i
 the carrier ``1 - ω1/ω2`` of a turn per turn against the ring.
 
 **Planet shafts, supported at both ends.** Each planet shaft (``d`` = the planet's bore) runs in a
-deep-groove ball bearing (:func:`~transplanter.shop.catalogue.bearing_for`) in the front carrier plate
+deep-groove ball bearing (:func:`~transplanter.shop.catalogue.bearing_for`: the thinnest that carries
+the load and leaves its sleeves a wall past the bore circlip) in the front carrier plate
 (the plane the part script states) and one in a rear carrier plate as thick, ``min_axial_gap`` behind
 the gears, inside the ring's back cavity. Cross-located ("X"): each bearing's outer ring stops
 against a DIN 472 circlip at its plate's inner face, the inner rings are held by a DIN 471 circlip
@@ -67,6 +68,7 @@ from transplanter.shop.catalogue import (
     key_for,
     screw,
 )
+from transplanter.shop.catalogue.bearings import SERIES
 from transplanter.shop.catalogue.fasteners import key_lengths, screw_lengths
 from transplanter.shop.solids import Features
 
@@ -82,6 +84,8 @@ ENGAGEMENT = {"steel": 1.5, "aluminium": 2.0}
 SHOULDER = 0.3
 #: the least wall of the hollow ring shaft under its flange key, mm
 MIN_WALL = 3.0
+#: the least radial wall of a spacer sleeve on a planet shaft, mm
+SLEEVE_WALL = 1.0
 #: the least web between a tapped hole and a plate's edge, mm
 MIN_WEB = 1.5
 
@@ -109,7 +113,10 @@ class Structure:
     sheet: float = 2.0
     door_lip: float = 25.0
     plate_material: str = "S235JR"
+    #: the ring's spacer (tapped for the ring's and the flange's screws)
     light_material: str = "6061-T6"
+    #: the ring flange: the hub of the ring drive's key
+    flange_material: str = "6061-T6"
     shaft_material: str = "C45"
 
     def __post_init__(self) -> None:
@@ -204,6 +211,29 @@ def _hub_key(d: float, hub: float):
     return key_for(d, max(hub, min(x for x in key_lengths() if x > b)))
 
 
+def _planet_bearing(d: float, rpm: float, load: float, s: Structure):
+    """The smallest bearing (series by series, thinnest first) that carries the planet's load and
+    leaves a sleeve against its inner ring, passing its bore circlip's lugs, a wall of
+    :data:`SLEEVE_WALL`: a thin-section bearing under a light load does not."""
+    sleeveless = []
+    for series in SERIES:
+        try:
+            b = bearing_for(d, rpm, load, life_h=s.life_h, series=(series,))
+        except SpecError:
+            continue
+        c = circlip_for_bore(b.D)
+        if _sleeve_od(b.bearing, c.groove_diameter / 2 - c.lug, s.running_clearance) >= d + 2 * SLEEVE_WALL:
+            return b
+        sleeveless.append(f"{b.designation}'s bore circlip leaves no {SLEEVE_WALL:g} mm sleeve wall")
+    why = "; ".join(sleeveless)
+    if not sleeveless:  # none carries it: the catalogue's own reason
+        try:
+            bearing_for(d, rpm, load, life_h=s.life_h)
+        except SpecError as e:
+            why = str(e)
+    raise SpecError(f"no planet bearing for Ø{d:g} at needle_force_n = {s.needle_force_n:g} N: {why}")
+
+
 def _sleeve_od(bearing, clear_to: float, running: float) -> float:
     """A sleeve's outer diameter against ``bearing``'s inner ring: within its face and
     ``running`` clear of a radius ``clear_to`` it passes (a bore circlip), whole mm down."""
@@ -247,7 +277,7 @@ def planet_shafts(study, machine_links: dict[str, Link], out: Collected) -> dict
 
     # -- planet shafts --------------------------------------------------------------------------
     d_p = study.pair.making[1].features.bore
-    bp = bearing_for(d_p, planet_rpm, load, life_h=s.life_h)
+    bp = _planet_bearing(d_p, planet_rpm, load, s)
     if planet_max > bp.limiting_speed_rpm:
         raise SpecError(f"planet bearing {bp.designation}: {planet_max:.4g} r/min over its limiting speed")
     cbp, csp = circlip_for_bore(bp.D), circlip_for_shaft(d_p)
