@@ -17,8 +17,6 @@ Run: python benchmarks/clearance.py [exports folder]   (default: builds seeds 00
 """
 
 import math
-import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -28,7 +26,9 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def main() -> None:
-    from transplanter.families import build_family, load_family
+    from _exports import built, study_files
+
+    from transplanter.families import load_family
     from transplanter.families.machines import planetary_posing
     from transplanter.machine.bodies import posed
     from transplanter.proof import clearance
@@ -36,19 +36,8 @@ def main() -> None:
     fam = load_family(ROOT / "parts" / "planetary_seed004.py")
     fam002 = load_family(ROOT / "parts" / "potseedling_seed002.py")
     machine = next(p for p in fam.parts if p.name == "machine")
-    if len(sys.argv) > 1:
-        exports = Path(sys.argv[1])
-    else:
-        exports = Path(tempfile.mkdtemp())
-        build_family(fam, exports)
-        build_family(fam002, exports)
-    root = exports / fam.name
-    import json
-
-    manifest = json.loads((root / "manifest.json").read_text())
-    files = {}
-    for name in (*machine.uses, machine.name):
-        files.update({f: (root / f).read_bytes() for f in manifest["parts"][name]["files"]})
+    exports = built([fam, fam002])
+    files = study_files(exports / fam.name, machine)
     record, names, _ = planetary_posing.inputs(machine, files)
     posed_machine, _ = planetary_posing.posed_machine(machine, files, record, names)
     ready = posed(planetary_posing.bodies(machine, files, names), posed_machine.links)
@@ -82,7 +71,8 @@ def gears_on_one_carrier(fam, root: Path, grid) -> None:
     """Seed 002's gears 9 and 11 (on carrier 2, 75.55 mm apart): the search with the floor their
     centres give, against the same search without it."""
     import dataclasses
-    import json
+
+    from _exports import study_files
 
     from transplanter.families.machines import carrier_posing
     from transplanter.families.machines.record import read_bodies
@@ -90,10 +80,7 @@ def gears_on_one_carrier(fam, root: Path, grid) -> None:
     from transplanter.proof import clearance
 
     study = next(p for p in fam.parts if p.name == "machine")
-    manifest = json.loads((root / "manifest.json").read_text())
-    files = {}
-    for name in (*study.uses, study.name):
-        files.update({f: (root / f).read_bytes() for f in manifest["parts"][name]["files"]})
+    files = study_files(root, study)
     made, _ = carrier_posing.made_machine(study, files)
     ready = posed(read_bodies(files, carrier_posing.body_specs(study)), carrier_posing.links(study, made))
     a, b = ready["gear_9"], ready["gear_11"]

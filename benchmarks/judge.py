@@ -21,9 +21,6 @@ Run: python benchmarks/judge.py [exports folder]   (default: builds seed 004 int
 """
 
 import dataclasses
-import json
-import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -31,22 +28,15 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def main() -> None:
-    from transplanter.families import build_family, load_family
+    from _exports import built, study_files
+
+    from transplanter.families import load_family
     from transplanter.families.machines import planetary_judging, planetary_parts, planetary_posing
     from transplanter.machine import bodies as machine_bodies
 
     fam = load_family(ROOT / "parts" / "planetary_seed004.py")
     study = next(p for p in fam.parts if p.name == "machine")
-    if len(sys.argv) > 1:
-        exports = Path(sys.argv[1])
-    else:
-        exports = Path(tempfile.mkdtemp())
-        build_family(fam, exports)
-    root = exports / fam.name
-    manifest = json.loads((root / "manifest.json").read_text())
-    files = {}
-    for name in (*study.uses, study.name):
-        files.update({f: (root / f).read_bytes() for f in manifest["parts"][name]["files"]})
+    files = study_files(built([fam]) / fam.name, study)
     record, names, turn = planetary_posing.inputs(study, files)
     machine, _ = planetary_posing.posed_machine(study, files, record, names)
     design = planetary_parts.designed(study, machine.links, files, names)
