@@ -321,6 +321,15 @@ def test_seed_002_under_load(built):
     assert cam["stays_on_the_cam"] == (cam["min_n"] >= 0.0) == (not leaves)
     if leaves:
         assert f"{cam['return_torque_needed_nm']:g} N m" in leaves[0]
+    # the roller on the cam by Hertz: the profile's least convex radius, from the motion's own
+    # curvature, is the swing cam's own record of it; the stress is the closed form at its figures
+    hertz = cam["contact_stress"]
+    folder = built / "potseedling_seed002"
+    made = json.loads((folder / "manifest.json").read_text())["parts"]["swing_cam"]["results"]
+    assert hertz["least_convex_profile_radius_mm"] == pytest.approx(made["min_convex_radius_of_curvature_mm"], abs=0.01)
+    kappa, r = 1 / 8.0 + 1 / hertz["profile_radius_mm"], 2 * (1 - 0.3**2) / 206_000.0
+    closed = math.sqrt(hertz["force_n"] / (math.pi * hertz["width_mm"]) * kappa / r)
+    assert 0 < hertz["value_mpa"] == pytest.approx(closed, rel=1e-4) and hertz["force_n"] <= cam["max_n"]
 
 
 def test_the_readme_shows_the_bill_of_materials_the_build_writes(built):

@@ -372,6 +372,7 @@ def _loads(loads: dict) -> list[Row]:
         ("at", f"{shortest.get('designation')}, {shortest.get('joint')}" if shortest else None, ""),
         ("largest tooth contact stress, nominal", _get(loads, "teeth", "max_contact_stress_mpa", "value"), "MPa"),
         ("largest tooth root stress, nominal", _extreme([_get(loads, "teeth", k, "value") for k in roots], max), "MPa"),
+        ("cam on the roller: contact stress, nominal", _get(loads, "cam", "contact_stress", "value_mpa"), "MPa"),
         ("smallest key safety", _get(ks, "smallest_key_safety", "safety"), ""),
         ("smallest shaft fatigue safety", _get(ks, "smallest_shaft_safety", "fatigue_safety"), ""),
         ("needle force the machine carries", _get(ks, "needle_force_capacity", "n"), "N"),

@@ -75,9 +75,10 @@ from transplanter.machine.dynamics import (
     equivalent_load,
     solve,
 )
+from transplanter.proof.tooth_stress import STEEL, hertz_line_contact
 from transplanter.shop.catalogue.bearings import LIFE_H, Bearing, rating_life_h
 
-__all__ = ["RIGID", "CamLawMachine", "model", "study_loads"]
+__all__ = ["RIGID", "CamLawMachine", "cam_contact_stress", "model", "study_loads"]
 
 #: the machine's links that move as one body: link -> the link it is keyed or bolted to
 RIGID = {
@@ -177,6 +178,50 @@ def model(study, machine: DoubleCarrierMachine, lumps, placed, bought: dict) -> 
     return Machine(links, lumps, tuple(pins), meshes, drives, contacts=(cam,)), parts
 
 
+def cam_contact_stress(centre, theta, force, axis, roller_radius: float, width: float) -> dict:
+    """The largest Hertz stress (line contact, both steel) between a fixed disc cam and a roller
+    outside it over the positions ``theta`` (rad) where the cam pushes with ``force`` (N, per
+    position): ``centre(t)`` (n, 2) mm is the roller centre — its path is the cam's pitch curve, whose radius
+    of curvature (central differences of 1 mrad on the motion itself) less the roller's is the
+    profile's at the contact, + where it curves round the cam (its centre of curvature on the side
+    of the cam's ``axis``), − where it is hollow; ``width`` mm the contact's length.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> circle = lambda t: 43.0 * np.stack([np.cos(t), np.sin(t)], axis=1)  # a round cam R35, roller 8
+    >>> row = cam_contact_stress(circle, np.linspace(0, 6, 7), np.full(7, 100.0), (0.0, 0.0), 8.0, 5.0)
+    >>> row["profile_radius_mm"], round(row["value_mpa"], 1)  # sqrt(F/(pi b) (1/8+1/35) / (2 (1-0.3²)/206 GPa))
+    (35.0, 332.7)
+    """
+    h = 1e-3
+    t = np.asarray(theta, dtype=float)
+    c0, cp, cm = (np.asarray(centre(t + d), dtype=float) for d in (0.0, h, -h))
+    d1, d2 = (cp - cm) / (2 * h), (cp - 2 * c0 + cm) / (h * h)
+    speed = np.linalg.norm(d1, axis=1)
+    kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3  # + turning left
+    left = np.stack([-d1[:, 1], d1[:, 0]], axis=1) / speed[:, None]
+    cam_side = np.sign(np.einsum("ij,ij->i", left, np.asarray(axis, dtype=float)[None, :] - c0))
+    with np.errstate(divide="ignore"):
+        pitch = np.where(kappa != 0.0, cam_side * np.sign(kappa) / np.abs(kappa), np.inf)
+    profile = pitch - roller_radius
+    best = None
+    for k in np.flatnonzero(np.asarray(force) > 0.0):
+        c = hertz_line_contact(float(force[k]), width, roller_radius, float(profile[k]), STEEL, STEEL)
+        if best is None or c.sigma_h > best[0]:
+            best = (c.sigma_h, k)
+    if best is None:
+        return {"value_mpa": 0.0, "reading": "the cam never pushes"}
+    k = best[1]
+    return {
+        "value_mpa": rounded(best[0], 4),
+        "at_driver_deg": round(float(np.degrees(t[k])), 4),
+        "force_n": rounded(float(force[k]), 4),
+        "profile_radius_mm": rounded(float(profile[k]), 4),
+        "least_convex_profile_radius_mm": rounded(float(np.min(np.where(profile > 0, profile, np.inf))), 4),
+    }
+
+
 def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
     """The cam's force on the roller over the cycle and the roller bearing's ISO 281 life (its outer
     ring rolling on the cam: turning at the roller centre's speed along the cam over its radius,
@@ -209,7 +254,19 @@ def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
         i = int(np.argmax(need))
         row["return_torque_needed_nm"] = rounded(float(need[i]), 4)
         row["return_torque_at_driver_deg"] = round(float(np.degrees(loads.theta[i])), 4)
-    if isinstance(bearing, Bearing):
+    if isinstance(bearing, Bearing):  # the Hertz stress of the roller on the cam, over the roller's width
+        axis = np.asarray([float(np.ravel(v)[0]) for v in m.links[cam.a].pose(np.zeros(1))[:2]])
+
+        def roller_centre(t):
+            px, py, pa = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(t))
+            return np.stack([px + cam.point[0] * np.cos(pa), py + cam.point[0] * np.sin(pa)], axis=1)
+
+        width = min(float(bearing.B), float(study.layers.cam[1] - study.layers.cam[0]))
+        row["contact_stress"] = {
+            **cam_contact_stress(roller_centre, loads.theta, f, axis, study.cam.follower.roller_radius, width),
+            "width_mm": width,
+            "method": "Hertz line contact, steel on steel (E 206 GPa, nu 0.3), nominal; no allowable stated",
+        }
         p = equivalent_load(np.maximum(f, 0.0), rpm)
         life = rating_life_h(bearing.C_n, p, float(np.mean(rpm))) if p > 0 else math.inf
         row.update(
