@@ -229,8 +229,13 @@ def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
     f = loads.contact[:, 0]
     k, j = int(np.argmax(f)), int(np.argmin(f))
     cam = m.contacts[0]
-    x, y, a = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(loads.theta))
-    centre = np.stack([x + cam.point[0] * np.cos(a), y + cam.point[0] * np.sin(a)], axis=1)
+
+    def roller_centre(t):
+        px, py, pa = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(t))
+        return np.stack([px + cam.point[0] * np.cos(pa), py + cam.point[0] * np.sin(pa)], axis=1)
+
+    x, y, _ = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(loads.theta))
+    centre = roller_centre(loads.theta)
     dt = 2 * math.pi / loads.theta.size / loads.speed
     v = np.linalg.norm(np.roll(centre, -1, axis=0) - np.roll(centre, 1, axis=0), axis=1) / (2 * dt)
     w = angular_speed(m.links["follower"], loads.theta, loads.speed)
@@ -256,11 +261,6 @@ def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
         row["return_torque_at_driver_deg"] = round(float(np.degrees(loads.theta[i])), 4)
     if isinstance(bearing, Bearing):  # the Hertz stress of the roller on the cam, over the roller's width
         axis = np.asarray([float(np.ravel(v)[0]) for v in m.links[cam.a].pose(np.zeros(1))[:2]])
-
-        def roller_centre(t):
-            px, py, pa = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(t))
-            return np.stack([px + cam.point[0] * np.cos(pa), py + cam.point[0] * np.sin(pa)], axis=1)
-
         width = min(float(bearing.B), float(study.layers.cam[1] - study.layers.cam[0]))
         row["contact_stress"] = {
             **cam_contact_stress(roller_centre, loads.theta, f, axis, study.cam.follower.roller_radius, width),
