@@ -1,21 +1,85 @@
-"""Evaluations per second of a design search: serial against ``--workers 2`` (dask LocalCluster).
+"""Evaluations per second of a design search on 1, 2 and all cores, its overheads, and the speed-up they predict.
 
 Runs a script's ``problem()`` (default: seed 004's differential train, ``parts/_seed004.py``, 0.1-0.5 s per
-candidate; seed 002's takes ~70 ms) for a few
-generations of differential evolution, once evaluating serially and once on two local worker
-processes, with the same seed, and prints evaluations per second and the ratio. Both runs use
-deferred updating (one population update per generation), so they evaluate exactly the same
-candidates and reach the same best cost — equal accuracy by construction; the parallel run's
-time includes starting its cluster.
+candidate; seed 002's takes ~70 ms) for a few generations of differential evolution: once serially, timing
+every candidate, then on 2 and on all local cores (a dask ``LocalCluster``, as ``transplanter optimise
+--workers N``), with the same seed. Every run uses deferred updating (one population update per generation),
+so all evaluate exactly the same candidates and reach the same best cost — equal accuracy by construction.
+The baseline is the serial run of the same search in the same run.
+
+It then measures, on a cluster of all cores, what a parallel generation costs beyond its candidates: the
+cluster's start, a generation's round trip (a map of one empty batch per worker) and each task's share
+(a map of many empty tasks), and predicts the time of a generation on ``w`` workers as the makespan of the
+measured candidates' times dealt out in :data:`~transplanter.design.optimise.BATCHES_PER_WORKER` batches
+per worker (the worker free first takes the next batch), plus those overheads — printed beside what was
+measured for 2 and all cores, and for 16 workers (a 16-core machine) as the prediction.
+
+Each run's rate is printed in all (the cluster's start and the workers' first imports included: what a short
+search pays once) and after its first generation (what every further generation costs).
 
     python benchmarks/optimise.py [parts/_seed002.py] [--generations 4] [--popsize 4]
 """
 
 import argparse
+import heapq
+import os
 import time
 
-from transplanter.design.optimise import optimise
+import numpy as np
+
+from transplanter.design import optimise as search
+from transplanter.design.optimise import BATCHES_PER_WORKER, optimise
 from transplanter.families import run_script
+
+
+def _timed(problem):
+    """``problem`` with each candidate's evaluation time recorded (in the order scipy asks)."""
+    times: list[float] = []
+    cost = problem.cost
+
+    def timed(x):
+        t = time.perf_counter()
+        try:
+            return cost(x)
+        finally:
+            times.append(time.perf_counter() - t)
+
+    import dataclasses
+
+    return dataclasses.replace(problem, cost=timed), times
+
+
+def makespan(times, workers: int) -> float:
+    """A generation's candidates (``times`` s, in order) in batches per worker, the free worker first."""
+    n = max(1, min(len(times), workers * BATCHES_PER_WORKER))
+    bounds = np.linspace(0, len(times), n + 1).round().astype(int)
+    free = [0.0] * workers
+    for a, b in zip(bounds, bounds[1:], strict=False):
+        t = heapq.heappop(free)
+        heapq.heappush(free, t + float(sum(times[a:b])))
+    return max(free)
+
+
+def _noop(x):
+    return 0.0
+
+
+def overheads(workers: int, tasks: int = 400) -> tuple[float, float, float]:
+    """(cluster start s, a generation's round trip s, per task s) on ``workers`` local processes."""
+    t = time.perf_counter()
+    with search._evaluator(workers, None) as run:
+        start = time.perf_counter() - t
+        xs = [np.zeros(1)] * workers
+        run(_noop, xs)  # the scatter and the first round trip (imports on the workers)
+        t = time.perf_counter()
+        for _ in range(10):
+            run(_noop, xs)
+        per_generation = (time.perf_counter() - t) / 10
+        run.client.map(_noop, range(10), pure=False)
+        t = time.perf_counter()
+        run.client.gather(run.client.map(_noop, range(tasks), pure=False))
+        per_task = (time.perf_counter() - t) / tasks
+    return start, per_generation, per_task
 
 
 def main() -> None:
@@ -24,20 +88,55 @@ def main() -> None:
     ap.add_argument("--generations", type=int, default=4)
     ap.add_argument("--popsize", type=int, default=4)
     args = ap.parse_args()
-    problem = run_script(args.script)["problem"]()
-    rows = []
-    for label, kwargs in (("serial (1 process)", {"workers": 1, "scheduler": None}), ("--workers 2", {"workers": 2})):
-        start = time.perf_counter()
-        res = optimise(problem, seed=1, maxiter=args.generations, popsize=args.popsize, updating="deferred", **kwargs)
-        seconds = time.perf_counter() - start
-        rows.append((label, res.evaluations, seconds, res.fun))
+    problem, times = _timed(run_script(args.script)["problem"]())
+    cores = os.cpu_count() or 1
+    kwargs = {"seed": 1, "maxiter": args.generations, "popsize": args.popsize, "updating": "deferred"}
+
+    def run(workers: int):
+        """The search on ``workers``: (result, seconds in all, seconds of the generations after the first)."""
+        stamps: list[float] = []
+        t = time.perf_counter()
+        res = optimise(problem, workers=workers, progress=lambda *_: stamps.append(time.perf_counter()), **kwargs)
+        return res, time.perf_counter() - t, stamps[-1] - stamps[0]
+
+    serial, t1, steady1 = run(1)
+    population = serial.evaluations // (serial.generations + 1)  # the initial population, then one per generation
+    later = population * (serial.generations - 1)  # evaluated after the first generation
+    print(
+        f"{'serial (1 process)':22s} {serial.evaluations:5d} evaluations in {t1:6.2f} s: "
+        f"{serial.evaluations / t1:6.2f} /s"
+        f"; after the first generation {later / steady1:6.2f} /s"
+    )
+    measured = {}
+    for w in sorted({2, cores}):
+        res, tw, steady = run(w)
+        assert res.evaluations == serial.evaluations and res.fun == serial.fun, "the runs must evaluate alike"
+        measured[w] = (tw, steady)
         print(
-            f"{label:20s} {res.evaluations:5d} evaluations in {seconds:6.2f} s: {res.evaluations / seconds:6.2f} /s"
-            f"  (best cost {res.fun:.6g})"
+            f"{f'--workers {w}':22s} {res.evaluations:5d} evaluations in {tw:6.2f} s: {res.evaluations / tw:6.2f} /s"
+            f" {t1 / tw:5.2f}x serial (the cluster's start and the workers' first imports included);"
+            f" after the first generation {later / steady:6.2f} /s, {steady1 / steady:5.2f}x serial"
         )
-    (_, n1, t1, f1), (_, n2, t2, f2) = rows
-    assert n1 == n2 and f1 == f2, "the two runs must evaluate the same candidates"
-    print(f"ratio --workers 2 / serial: {(n2 / t2) / (n1 / t1):.2f}x evaluations per second")
+
+    start, per_gen, per_task = overheads(cores)
+    gens = [times[k : k + population] for k in range(0, len(times), population)]
+    print(
+        f"\noverheads on {cores} local workers: cluster start {start:.2f} s, a generation's round trip "
+        f"{per_gen * 1e3:.1f} ms, {per_task * 1e3:.2f} ms per task; {len(gens)} generations of {population}, "
+        f"a candidate {np.mean(times) * 1e3:.0f} ms on average ({min(times) * 1e3:.0f}..{max(times) * 1e3:.0f})"
+    )
+    for w in sorted({2, cores, 16}):
+        tasks = min(population, w * BATCHES_PER_WORKER)
+        run = sum(makespan(g, w) + per_gen + tasks * per_task for g in gens)
+        total = sum(times)
+        line = f"  {w:2d} workers: predicted {total / run:5.2f}x ({total / (run + start):5.2f}x with the start)"
+        if w in measured:
+            steady = sum(makespan(g, w) + per_gen + tasks * per_task for g in gens[2:])
+            line += (
+                f"; measured {t1 / measured[w][0]:5.2f}x with the start, after the first generation "
+                f"{steady1 / measured[w][1]:5.2f}x (predicted {sum(map(sum, gens[2:])) / steady:5.2f}x)"
+            )
+        print(line + ("" if w <= cores else f" — this machine has {cores} cores"))
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@ import os
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 import shapely
 
@@ -638,3 +639,41 @@ def test_only_what_changed_is_rebuilt_and_the_folder_equals_a_full_rebuild(tmp_p
         == {"b": "its files do not verify: b.txt: changed since the build (SHA-256 differs)"}
     )
     assert (folder / "b.txt").read_text() == "16.000000\n"
+
+
+class _CountedCost:
+    """A cost function that counts how often it is pickled (in this process: the client's side)."""
+
+    pickled = 0
+
+    def __call__(self, v):
+        return float((v[0] - 0.5) ** 2 + (v[1] + 0.25) ** 2)
+
+    def __reduce__(self):
+        type(self).pickled += 1
+        return (_CountedCost, ())
+
+
+def test_a_parallel_search_ships_its_cost_function_once_and_batches_the_candidates():
+    """Issue 46: the problem is scattered to the workers once per run, not pickled per task or per
+    generation, and each generation goes out in a few batches per worker (the results in order)."""
+    from distributed import Client, LocalCluster
+
+    from transplanter.design import optimise as search
+
+    problem = search.Problem("bowl", (("x", -2.0, 2.0), ("y", -2.0, 2.0)), _CountedCost())
+    with (
+        LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
+        Client(cluster) as client,
+    ):
+        run = search.ClusterMap(client)
+        xs = [np.array([k / 10, 0.0]) for k in range(30)]
+        assert run(problem, xs) == [problem(x) for x in xs]  # in the candidates' order
+        assert run.tasks == 2 * search.BATCHES_PER_WORKER
+        before = _CountedCost.pickled
+        for _ in range(3):  # scipy passes the same function every generation: not shipped again
+            assert run(problem, xs[:5]) == [problem(x) for x in xs[:5]]
+        assert _CountedCost.pickled == before and run.tasks == 8 + 3 * 5
+        parallel = search.optimise(problem, seed=2, maxiter=6, popsize=5, scheduler=cluster.scheduler_address)
+    serial = search.optimise(problem, seed=2, maxiter=6, popsize=5, updating="deferred")
+    assert (parallel.x, parallel.fun, parallel.evaluations) == (serial.x, serial.fun, serial.evaluations)

@@ -7,6 +7,10 @@
 * Only what is to be cut is on CUT: an obstacle, a bought part and a drawing marked "do not cut"
   have their outline on REFERENCE or BOUGHT, and the readers take it from there.
 * Every made part's drawing names its material (from the catalogue) and its quantity.
+* A drawing not to cut ships as a drawing only: no STL or STEP beside it (a printer, a CAM or a
+  CAD import takes those as parts to make), and no 3MF of reference parts alone.
+* What the shop does after the wire is a numbered list of operations: a tapped hole or a circlip
+  groove turned in a bore is an operation, not only a note.
 """
 
 import io
@@ -205,14 +209,40 @@ def check_layers(folder) -> dict[str, int]:
                 kind, want = "turned", set()
             assert made or any(t.startswith("do not cut this drawing") for t in notes), (path.name, notes)
             assert len(set(notes) & notes_of_material) == 1, (path.name, notes)
+            solids = {path.with_suffix(s).name for s in (".stl", ".step")} & {p.name for p in path.parent.iterdir()}
+            assert bool(solids) == bool(made and made[0] >= 1), (path.name, "a drawing not to make ships", solids)
+            _operations(path.name, notes, kind)
         assert outline == want, (path.name, kind, on)
         kinds[kind] += 1
     for manifest in folder.glob("*/manifest.json"):
-        for found in _made_results(json.loads(manifest.read_text())):
+        parts = json.loads(manifest.read_text())["parts"]
+        for found in _made_results(parts):
             if found["dxf_layer"] != "TURN":
                 assert found["dxf_layer"] == (dxf.CUT if found["quantity"] >= 1 else dxf.REFERENCE), found
             catalogue.material(found["material"])
+        for name, part in parts.items():  # a 3MF is a model to print: none of drawings not to make alone
+            quantities = [r["quantity"] for r in _made_results(part)]
+            if quantities and not any(quantities):
+                assert not [f for f in part["files"] if f.endswith((".3mf", ".stl", ".step"))], name
     return kinds
+
+
+#: an operation line of a drawing: "op 20: tap ..."
+_OP = re.compile(r"^op (\d+): (.*)")
+
+
+def _operations(name: str, notes: list[str], kind: str) -> None:
+    """A made drawing's operations are numbered 10, 20, … in order; a tapped hole and a circlip
+    groove turned in a plate's bore each have theirs; a wire-cut part's list starts with the wire."""
+    ops = [m.groups() for t in notes if (m := _OP.match(t))]
+    assert [int(n) for n, _ in ops] == [10 * k for k in range(1, len(ops) + 1)], (name, ops)
+    said = " ".join(t for t in notes if not _OP.match(t))
+    if re.search(r"\bM\d+ tapped", said):  # this part's threads ("3 x M5 tapped"), not its mate's
+        assert any("tap" in text for _, text in ops), (name, "tapped holes without an operation", notes)
+    if kind == "cut" and re.search(r"DIN 472 \S+ groove", said):
+        assert any("groove" in text for _, text in ops), (name, "a bore's circlip groove without an operation")
+    if kind == "cut" and ops:
+        assert ops[0][1].startswith("wire-cut every contour on CUT"), (name, ops)
 
 
 def _made_results(node):
@@ -244,3 +274,24 @@ def test_only_what_is_to_be_cut_is_on_cut(built):
     # seed 002's gears 7-8 (two drawings, do not cut), its roller; seed 004's box and soil, seed 002's soil
     assert kinds["not cut"] >= 2 and kinds["bought"] >= 1 and kinds["obstacle"] >= 3, kinds
     assert kinds["cut"] > 30 and kinds["assembly"] >= 3 and kinds["turned"] >= 8, kinds
+
+
+def test_a_made_part_lists_what_the_shop_does_after_the_wire():
+    plate = shapely.box(0.0, 0.0, 40.0, 20.0)
+    ops = ("tap the 2 holes M4 through", "turn the DIN 472 22x1 groove 23 (+0.13/0) x 1.1 H13 in the bore")
+    for quantity in (3, 0):
+        making = Making(width=5.0, step=False, quantity=quantity, material="S235JR", operations=ops)
+        res, files, _ = manufacture("p", plate, shapely.Polygon(), making, ("a plate (op 20)",), str)
+        notes = _notes(files["p.dxf"])
+        if quantity:
+            want = [
+                "op 10: wire-cut every contour on CUT (a hole to tap at its tap drill)",
+                *(f"op {20 + 10 * k}: {o}" for k, o in enumerate(ops)),
+            ]
+            assert res["operations"] == want and [t for t in notes if t.startswith("op ")] == want
+            assert set(files) == {"p.dxf", "p.stl"}
+        else:  # a drawing not to cut has nothing to do after the wire, and ships as a drawing only
+            assert "operations" not in res and not any(t.startswith("op ") for t in notes)
+            assert set(files) == {"p.dxf"} and res["shipped"].startswith("DXF only")
+    with pytest.raises(SpecError, match="operations"):
+        Making(width=5.0, material="S235JR", operations=("",))

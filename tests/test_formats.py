@@ -128,21 +128,6 @@ def test_an_open_manifold_is_refused_in_an_assembly():
         threemf._manifold(trimesh.Trimesh(np.eye(3), [[0, 1, 2]]))
 
 
-def test_the_carrier_plate_step_re_reads_as_its_dxf_extruded(built, parts_dir):
-    # the one made part whose study has no check of its own (the train's carrier plate)
-    from transplanter.families import load_family
-
-    train = next(p for p in load_family(parts_dir / "planetary_seed004.py").parts if p.name == "optimised_train")
-    folder = built / "planetary_seed004"
-    rep = formats.STEP.verify(
-        "optimised_train.carrier",
-        (folder / "optimised_train.carrier.step").read_bytes(),
-        (folder / "optimised_train.carrier.dxf").read_bytes(),
-        train.carrier[1].width,
-    )
-    assert rep["valid"] and rep["solids"] == 1 and rep["volume_rel_error"] < SOLID_VOLUME_REL
-
-
 def _edges_per_planar_face(shape) -> list[int]:
     """Edges bounding each face of ``shape`` that lies in a plane z = const (its top and bottom)."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface

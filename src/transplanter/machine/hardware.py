@@ -96,6 +96,8 @@ class Turned:
     material: str = "C45"
     quantity: int = 1
     notes: tuple[str, ...] = ()
+    #: what the shop does after turning, grooving and milling the keyways (e.g. tapping its ends)
+    operations: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         r = finite_positive(f"{self.name}: outer diameter", self.outer) / 2
@@ -228,9 +230,7 @@ class Turned:
                 f"{self.name} (mm): turned part, Ø{self.outer:g}"
                 + (f" bored Ø{self.bore:g}" if self.bore else "")
                 + f" x {self.length:g} long; outline on layer {TURN} (not a wire-cut part: nothing on CUT)",
-                *(f"z {a:g}..{b:g}: {text}" for a, b, text in self.fits),
-                *(f"keyway at z {z0:g}..{z0 + n:g}: {note}" for z0, n, _, _, note in self.keyways),
-                *(f"groove at z {z0:g}..{z0 + m:g}: {note}" for z0, m, _, note in self.grooves),
+                *self.operation_lines(),
                 *self.notes,
                 *(() if any(n.startswith("timing") for n in self.notes) else (self._timing(),)),
                 catalogue_material(self.material).note,
@@ -241,6 +241,32 @@ class Turned:
                     (0.0, below - r - (k + 2) * 1.6 * height)
                 )
             return dxf._write(doc)
+
+    def operation_lines(self) -> list[str]:
+        """The drawing's operations in order, numbered as a routing sheet: turn (the seats' fits
+        under it), the circlip grooves, the keyways, then ``operations``; each feature a line.
+
+        >>> shaft = Turned("s", 10.0, 30.0, grooves=((1.0, 1.1, 9.6, "DIN 471 10x1"),), fits=((5.0, 15.0, "k6"),))
+        >>> shaft.operation_lines()
+        ['op 10: turn Ø10 x 30', '  z 5..15: k6', 'op 20: turn the circlip grooves', '  z 1..2.1: DIN 471 10x1']
+        """
+        steps: list[tuple[str, list[str]]] = [
+            (
+                f"turn Ø{self.outer:g}" + (f", bore Ø{self.bore:g}" if self.bore else "") + f" x {self.length:g}",
+                [f"z {a:g}..{b:g}: {text}" for a, b, text in self.fits],
+            )
+        ]
+        if self.grooves:
+            grooves = [f"z {z0:g}..{z0 + m:g}: {note}" for z0, m, _, note in sorted(self.grooves)]
+            steps.append(("turn the circlip grooves", grooves))
+        if self.keyways:
+            keys = [f"z {z0:g}..{z0 + n:g}: {note}" for z0, n, _, _, note in sorted(self.keyways)]
+            steps.append(("mill the keyways" + (" in line" if len(keys) > 1 else ""), keys))
+        steps += [(text, []) for text in self.operations]
+        out = []
+        for k, (head, items) in enumerate(steps, 1):
+            out += [f"op {10 * k}: {head}", *(f"  {item}" for item in items)]
+        return out
 
     def _timing(self) -> str:
         """The timing note a part that states none gets: a round part has no angle to keep; keyways
@@ -254,11 +280,18 @@ class Turned:
     def files(self) -> tuple[dict, dict[str, bytes]]:
         """``<name>.dxf``, ``.stl`` and ``.step``, each verified (the DXF re-read as this part, the
         STL watertight and of the flattened solid's volume, the STEP one solid of the exact volume),
-        and the record a bill of materials takes."""
+        and the record a bill of materials takes. A part drawn for reference (``quantity`` 0) ships
+        its drawing only (``formats.REFERENCE_ONLY``)."""
         data = self.drawing()
         again = read_turned(data, self.name)
         if not again.same_as(self):
             raise GeometryError(f"{self.name}: its drawing re-reads as {again}, not as made")
+        ops = [line for line in self.operation_lines() if line.startswith("op ")]
+        head = {"stem": self.name, "kind": "turned", "material": self.material, "quantity": self.quantity}
+        if not self.quantity:
+            return {**head, "dxf_layer": TURN, "operations": ops, "shipped": formats.REFERENCE_ONLY}, {
+                f"{self.name}.dxf": data
+            }
         solid = self.solid()
         flat = self.manifold()
         mesh = stl.stl_bytes(flat)
@@ -271,11 +304,9 @@ class Turned:
             self.name, [assembly_step.Placed(self.name, self.name, 1, solid, at)]
         )
         record = {
-            "stem": self.name,
-            "kind": "turned",
-            "material": self.material,
-            "quantity": self.quantity,
+            **head,
             "dxf_layer": TURN,
+            "operations": ops,
             "outer_mm": self.outer,
             "bore_mm": self.bore,
             "length_mm": rounded(self.length, 6),

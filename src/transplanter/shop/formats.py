@@ -65,7 +65,12 @@ __all__ = [
     "CUT",
     "REFERENCE",
     "BOUGHT",
+    "REFERENCE_ONLY",
 ]
+
+#: what a drawing not to cut or make (quantity 0) ships, in its record: a printer, a CAM or a CAD
+#: import takes an STL, STEP or 3MF as a part to make
+REFERENCE_ONLY = "DXF only: a drawing not to make (no STL or STEP, no 3MF)"
 
 
 @dataclass(frozen=True)

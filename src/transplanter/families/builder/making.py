@@ -11,7 +11,7 @@ from transplanter.core.precision import rounded, significant
 from transplanter.core.tolerances import WIRE_EDM_TOLERANCE
 from transplanter.shop import catalogue, formats, machining, solids
 
-__all__ = ["Making", "manufacture", "step_file", "assembly_file", "check_shop_files"]
+__all__ = ["Making", "REFERENCE_ONLY", "manufacture", "operations", "step_file", "assembly_file", "check_shop_files"]
 
 
 #: the thinnest part made, mm: below it an extruded solid's mesh is no longer watertight in
@@ -46,6 +46,9 @@ class Making:
     tolerance: float = WIRE_EDM_TOLERANCE
     #: the material, by its catalogue name (required: see above)
     material: str = ""
+    #: what the shop does after the wire, in order (tapping, a circlip groove inside a bore…): the
+    #: drawing lists them as numbered operations after "op 10: wire-cut" (:func:`operations`)
+    operations: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         check_number("face width", self.width, MIN_FACE_WIDTH_MM, 10_000.0, unit="mm")
@@ -58,6 +61,8 @@ class Making:
         if not isinstance(self.step, bool):
             raise SpecError.out_of_range("step", self.step, "True or False")
         check_int("quantity", self.quantity, 0, 10_000)
+        if not isinstance(self.operations, tuple) or not all(isinstance(o, str) and o for o in self.operations):
+            raise SpecError.out_of_range("operations", self.operations, "a tuple of non-empty texts")
         check_number("tolerance", self.tolerance, 0.0, 1.0, low_open=True, unit="mm")
         for v in self.dxf_versions:
             if v not in ("R2000", "R12"):
@@ -76,6 +81,23 @@ class Making:
         return formats.CUT if self.quantity else formats.REFERENCE
 
 
+def operations(making: Making) -> tuple[str, ...]:
+    """The drawing's numbered operations: the wire first, then ``making.operations`` in order —
+    none for a part the wire finishes, or a drawing not to cut.
+
+    >>> operations(Making(width=8, material="S235JR", operations=("tap 2 x M4 through",)))
+    ('op 10: wire-cut every contour on CUT (a hole to tap at its tap drill)', 'op 20: tap 2 x M4 through')
+    """
+    if not making.operations or not making.quantity:
+        return ()
+    tapping = any("tap" in o for o in making.operations)
+    wire = f"wire-cut every contour on {making.layer}" + (" (a hole to tap at its tap drill)" if tapping else "")
+    return tuple(f"op {10 * k}: {text}" for k, text in enumerate((wire, *making.operations), 1))
+
+
+REFERENCE_ONLY = formats.REFERENCE_ONLY
+
+
 def manufacture(
     stem: str,
     blank,
@@ -87,13 +109,15 @@ def manufacture(
     paths: tuple = (),
 ) -> tuple[dict, dict, formats.MadePart]:
     """Section, solid and shop files of one prismatic part, each verified by its format
-    (:mod:`transplanter.shop.formats`): the STL, every DXF version, the STEP.
+    (:mod:`transplanter.shop.formats`): the STL, every DXF version, the STEP (a part to cut).
 
     ``locate(point)`` names where a wire violation sits (e.g. "tooth space 12"); ``marks`` and
     ``paths`` go to the DXF's ANNOTATION layer (``formats.MadePart``); the notes get the material
-    (its catalogue note), the quantity with the plate's thickness (``making.width``: what the shop
+    (its catalogue note), the numbered operations after the wire (:func:`operations`), the quantity
+    with the plate's thickness (``making.width``: what the shop
     buys the stock as) and the contour tolerance from ``making``, and the outline
-    goes on ``making.layer`` (CUT, or REFERENCE for a drawing not to cut). Returns the results (with
+    goes on ``making.layer`` (CUT, or REFERENCE for a drawing not to cut, which ships its DXF only:
+    no STL, no STEP — :data:`REFERENCE_ONLY` in its results). Returns the results (with
     the files' stem, the material, quantity and outline layer, for a bill of materials), the files
     by name and the :class:`~transplanter.shop.formats.MadePart` (for assemblies).
     """
@@ -102,7 +126,13 @@ def manufacture(
         if making.quantity
         else "do not cut this drawing as it is (see the notes above)"
     )
-    notes = (*notes, catalogue.material(making.material).note, f"{made}; contour tolerance +/-{making.tolerance:g} mm")
+    ops = operations(making)
+    notes = (
+        *notes,
+        *ops,
+        catalogue.material(making.material).note,
+        f"{made}; contour tolerance +/-{making.tolerance:g} mm",
+    )
     section = solids.part_section(blank, cut, making.features)
     wire_r = making.wire[0] / 2 + making.wire[1]
     bad = machining.wire_violations(section, wire_r)
@@ -128,12 +158,19 @@ def manufacture(
         "volume_rel_error": significant(abs(solid.volume() / made.volume - 1)),
         "wire_radius_mm": wire_r,
     }
+    if ops:
+        results["operations"] = list(ops)
     files: dict[str, bytes] = {}
-    for fmt in (formats.STL, *(formats.Dxf(v) for v in making.dxf_versions)):
+    # a drawing not to cut ships as a drawing only: an STL or STEP beside it is a part a printer, a CAM
+    # or a CAD import would take as one to make
+    solid_formats = (formats.STL,) if making.quantity else ()
+    for fmt in (*solid_formats, *(formats.Dxf(v) for v in making.dxf_versions)):
         data = fmt.write(made)
         results["stl" if fmt is formats.STL else f"dxf_{fmt.version}"] = fmt.verify(made, data)
         files[f"{stem}{fmt.suffix}"] = data
-    if making.step:
+    if not making.quantity:
+        results["shipped"] = REFERENCE_ONLY
+    elif making.step:
         results["step"] = step_file(made, files)
     return results, files, made
 
@@ -143,7 +180,10 @@ def step_file(made: formats.MadePart, files: dict[str, bytes]) -> dict:
 
     A study that also re-reads an assembly may call :func:`manufacture` without the STEP and
     this after the re-read: OpenCASCADE (~250 MB resident once imported) then joins the process
-    after the 3MF reader's transient (~300 MB for the seed-004 ring), not under it."""
+    after the 3MF reader's transient (~300 MB for the seed-004 ring), not under it. A drawing not
+    to cut (on layer REFERENCE) gets none: :data:`REFERENCE_ONLY`."""
+    if made.layer == formats.REFERENCE:
+        return {"shipped": REFERENCE_ONLY}
     data, results = formats.STEP.write_checked(made)
     files[f"{made.stem}{formats.STEP.suffix}"] = data
     return results
@@ -151,7 +191,10 @@ def step_file(made: formats.MadePart, files: dict[str, bytes]) -> dict:
 
 def assembly_file(name: str, placed: list[tuple[str, formats.MadePart, np.ndarray]]) -> tuple[dict, dict[str, bytes]]:
     """``<name>.assembly.3mf`` of the made parts ``(body name, part, 4×4 placement)``, re-read and
-    verified (one body per part, of its volume, none overlapping another); its results and file."""
+    verified (one body per part, of its volume, none overlapping another); its results and file.
+    Drawings not to cut have none (:data:`REFERENCE_ONLY`): the 3MF is a model a printer makes."""
+    if all(part.layer == formats.REFERENCE for _, part, _ in placed):
+        return {"file": None, "shipped": REFERENCE_ONLY}, {}
     data = formats.THREEMF.write([(body, part.solid, at) for body, part, at in placed])
     volumes = {body: part.volume for body, part, _ in placed}
     res = formats.THREEMF.verify(data, list(volumes), volumes)

@@ -150,11 +150,15 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes], 
         "sector_8": (
             s8,
             s8_holes,
-            dataclasses.replace(study.sector, features=solids.Features(holes=s8_holes)),
+            dataclasses.replace(
+                study.sector,
+                features=solids.Features(holes=s8_holes),
+                operations=(f"tap the 2 holes {S.screws['sector'][0]} through",),
+            ),
             (
                 f"sector gear 8 (carrier 2's): {study.sectors.name}.driven's teeth kept over the swing; turns on "
                 f"gear 5-9's shaft in a bearing (bore Ø{s8_holes[0][2]:g} H7), screwed to carrier 2 "
-                f"(2 x {S.screws['sector'][0]} tapped, drill Ø{S.screws['sector'][2]:g}, across two spacers)",
+                f"(2 x {S.screws['sector'][0]} tapped (op 20), across two spacers)",
                 f"mates with sector 7, centre distance {pair.pair.centre_distance:.4f} mm",
                 "timing: its timing hole meets sector 7's at the swing's start; its bolts set it on carrier 2",
                 where.format(*L.sectors),
@@ -166,6 +170,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes], 
             dataclasses.replace(
                 study.arm,
                 features=solids.Features(bore=SHAFT_MM, holes=tuple((x, y, TAP_DRILL_M4) for x, y in claw_bolts)),
+                operations=("tap the 2 holes M4 through",),
             ),
             (
                 f"transplanting arm (link 3): keyed to gear 11's shaft at Q (its origin); the claw tip at "
@@ -173,7 +178,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes], 
                 "mates with gear 11 (keyed on one shaft at Q) and the claw (bolted)",
                 f"timing: this keyway sits {keys['arm_keyway_from_gear_11s']:g} deg from gear 11's on the shaft "
                 "(counter-clockwise, seen from the arm's side; gear 11 is mounted face down)",
-                "2 x M4 tapped (tap drill 3.3 mm) for the claw",
+                "2 x M4 tapped for the claw (op 20)",
                 where.format(*L.arm),
             ),
         ),
@@ -195,7 +200,7 @@ def parts_to_make(study, machine: DoubleCarrierMachine, used: dict[str, bytes], 
             part: (
                 plates[part][0],
                 plates[part][1],
-                dataclasses.replace(making, features=plates[part][2]),
+                dataclasses.replace(making, features=plates[part][2], operations=plates["operations"].get(part, ())),
                 (*plates[part][3], where.format(*z)),
             )
             for part, making, z in (

@@ -83,7 +83,7 @@ def structure_plates(study, machine, hw, bolt_circle: float, sector8_turn: float
             "carrier 1's front plate: holds the shafts of gears 3-4, gears 5-9 and the follower at their front "
             "ends, and the fixed shaft's; on carrier 1's frame (origin A0)",
             f"bearing bores: {_bearing_notes(cov_b)}",
-            f"{len(st_t)} x {standoff[0]} tapped (drill Ø{standoff[2]:g}) for the standoffs' screws",
+            f"{len(st_t)} x {standoff[0]} tapped for the standoffs' screws (op 20)",
             "timing: +x to A_c as carrier 1's; the standoffs' screws set it on carrier 1",
         ),
     )
@@ -95,7 +95,7 @@ def structure_plates(study, machine, hw, bolt_circle: float, sector8_turn: float
         solids.Features(bore=S.tube, holes=hub_t),
         (
             f"carrier 1's hub: keyed on the drive tube (Ø{S.tube:g} H7, DIN 6885 hub keyway at +y) and screwed to "
-            f"carrier 1 ({len(hub_t)} x {hub_screw[0]} tapped, drill Ø{hub_screw[2]:g}): carrier 1's input, "
+            f"carrier 1 ({len(hub_t)} x {hub_screw[0]} tapped, op 20): carrier 1's input, "
             f"{S.speed_rpm:g} r/min",
             "timing: its keyway at +y on the drive tube's key; its screw holes follow carrier 1's",
         ),
@@ -128,10 +128,16 @@ def structure_plates(study, machine, hw, bolt_circle: float, sector8_turn: float
             "carrier 2's front plate: holds the shafts of the idler 10 and of gear 11 with the arm at their front "
             "ends; on carrier 2's frame (origin A_c)",
             f"bearing bores: {_bearing_notes(fr_b)}",
-            f"{len(st2_t)} x {standoff[0]} tapped (drill Ø{standoff[2]:g}) for the standoffs' screws",
+            f"{len(st2_t)} x {standoff[0]} tapped for the standoffs' screws (op 20)",
             "timing: +x to Q as carrier 2's; the standoffs' screws set it on carrier 2",
         ),
     )
+    # after the wire (Making.operations): the tapped holes, cut at their tap drill
+    out["operations"] = {
+        "carrier_1_front": (f"tap the {len(st_t)} standoff holes {standoff[0]} through",),
+        "carrier_2_front": (f"tap the {len(st2_t)} standoff holes {standoff[0]} through",),
+        "hub": (f"tap the {len(hub_t)} holes {hub_screw[0]} through",),
+    }
     c, s = math.cos(sector8_turn), math.sin(sector8_turn)
     out["sector_8_holes"] = (
         *seats["sector_8"],

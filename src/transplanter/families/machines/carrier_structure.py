@@ -450,7 +450,8 @@ def _centre(study, machine, bearing, mount):
                 L.cam[0] - S.frame[1],
                 quantity=len(posts),
                 material="S235JR",
-                notes=(f"post: {size} tapped (drill Ø{tap:g}) 10 deep at each end; holds the cam on the frame",),
+                notes=(f"post: {size} tapped 10 deep at each end; holds the cam on the frame",),
+                operations=(f"drill Ø{tap:g} and tap {size} 10 deep at each end",),
             ),
             tuple(posts),
         )

@@ -155,7 +155,12 @@ class PlanetaryMachineStudy(StudyDefaults):
             ("needle", arm.needle, arm.needle_holes, self.needle, self.layers.needles),
         ):
             features = solids.Features(bore=bore if role == "arm_plate" else None, holes=holes)
-            making = dataclasses.replace(making, features=features, quantity=n)
+            ops = (
+                ("tap the 2 holes M4 through",)
+                if role == "arm_plate"
+                else (f"grind the point over its last {self.point:g} mm",)
+            )
+            making = dataclasses.replace(making, features=features, quantity=n, operations=ops)
             res, shop, _ = manufacture(
                 f"{self.name}.{role}",
                 section,
@@ -242,7 +247,7 @@ class PlanetaryMachineStudy(StudyDefaults):
                 "timing: the key sets the arm's angle to the planet (its timing mark on +x)",
                 f"knee A at ({arm.knee[0]:.3f}, {arm.knee[1]:.3f}) mm (H1 = {g.knee:g} mm); needle tip at "
                 f"S = {g.tip:g} mm, beta = {math.degrees(g.mount):.3f} deg",
-                "2 x M4 tapped (tap drill 3.3 mm) for the needle",
+                "2 x M4 tapped for the needle (op 20)",
                 f"{where}; held on the planet shaft by a DIN 471 circlip on its outer face",
             )
         spacer = self.layers.needles[0] - self.layers.plates[1]
@@ -251,7 +256,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             f"planting needle, one per arm: mates with the arm plate, bolted on its outer face (2 x M4){over}; tip at "
             f"({arm.tip[0]:.3f}, {arm.tip[1]:.3f}) mm in the planet's frame",
             "timing: its two bolt holes on the plate's tapped holes set its direction",
-            f"{self.needle_width:g} mm wide, point ground over its last {self.point:g} mm",
+            f"{self.needle_width:g} mm wide, its point ground (op 20)",
             where,
         )
 

@@ -61,7 +61,7 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
     mounts = [(r_tube * math.cos(t), r_tube * math.sin(t)) for t in (math.pi / 4 + k * math.pi / 2 for k in range(4))]
     seat_note = (
         f"{n} bearing seats {fit(bp.D, 'H7').text} on R{a:.4f}, {360 / n:g} deg apart from +x, each with a "
-        f"{cbp.designation} groove {cbp.groove_note}"
+        f"{cbp.designation} groove (op 20)"
     )
     return (
         Plate(
@@ -76,10 +76,15 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
             (
                 "front carrier plate: mates with the planet shafts' front bearings (" + bp.designation + ") in its "
                 "seats, the carrier shaft on its key and the tie tubes on its back face",
-                seat_note + f", the groove's near edge {cbp.n_min:g} from the back face (the ring's side)",
+                seat_note,
                 f"bore {fit(d_c, 'H7').text} with the DIN 6885 hub keyway: the carrier shaft ({fit(d_c, 'k6').text})",
-                f"{n} x {size} tapped through on R{s.tie_radius:g} between the planets: the tie screws from the back",
+                f"{n} x {size} tapped on R{s.tie_radius:g} between the planets: the tie screws from the back",
                 "timing: the seat on +x carries arm I",
+            ),
+            (
+                f"in each bearing seat turn the {cbp.designation} groove {cbp.groove_size}, its near edge "
+                f"{cbp.n_min:g} from the back face (the ring's side)",
+                f"tap {n} x {size} through on R{s.tie_radius:g}",
             ),
         ),
         Plate(
@@ -94,12 +99,16 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
             (
                 "rear carrier plate, in the ring's back cavity: mates with the planet shafts' rear bearings in its "
                 "seats, the carrier shaft on its key and the tie tubes on its front face",
-                seat_note + f", the groove's near edge {cbp.n_min:g} from the front face (the ring's side)",
+                seat_note,
                 f"bore {fit(d_c, 'H7').text} with the DIN 6885 hub keyway: the carrier shaft, between two "
                 f"{cc.designation}",
                 f"{n} x {CLEARANCE_HOLE[size]:g} on R{s.tie_radius:g} for the tie screws ({tie.designation}, heads "
                 "behind)",
                 "timing: the seat on +x carries arm I",
+            ),
+            (
+                f"in each bearing seat turn the {cbp.designation} groove {cbp.groove_size}, its near edge "
+                f"{cbp.n_min:g} from the front face (the ring's side)",
             ),
         ),
         Plate(
@@ -120,6 +129,7 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
                 f"{len(holes)} x M3 tapped between them (the flange's {flange_screw.designation} from the back)",
                 "timing: the ring's holes lie half a pitch off +x",
             ),
+            (f"tap all {2 * len(holes)} holes M3 through",),
         ),
         Plate(
             "ring_flange",
@@ -155,10 +165,14 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
             (
                 "front frame plate: mates with the ring shaft's front bearing (" + bq.designation + ") and the frame "
                 "tubes",
-                f"bearing seat {fit(bq.D, 'H7').text}, a {cbq.designation} groove {cbq.groove_note}, its near edge "
-                f"{cbq.n_min:g} from the back face",
-                f"3 x {size} tapped through on R{r_tube:g}: the frame's tie screws",
+                f"bearing seat {fit(bq.D, 'H7').text} with a {cbq.designation} groove",
+                f"3 x {size} tapped on R{r_tube:g}: the frame's tie screws",
                 "timing: a tube hole on +y, as the rear plate's",
+            ),
+            (
+                f"in the bearing seat turn the {cbq.designation} groove {cbq.groove_size}, its near edge "
+                f"{cbq.n_min:g} from the back face",
+                f"tap 3 x {size} through on R{r_tube:g}",
             ),
         ),
         Plate(
@@ -180,11 +194,15 @@ def plates(study, d: Design) -> tuple[Plate, ...]:
             (
                 "rear frame plate: mates with the ring shaft's rear bearing and the frame tubes; bolted to the "
                 "transplanter's drive case",
-                f"bearing seat {fit(bq.D, 'H7').text}, a {cbq.designation} groove {cbq.groove_note}, its near edge "
-                f"{cbq.n_min:g} from the front face",
+                f"bearing seat {fit(bq.D, 'H7').text} with a {cbq.designation} groove",
                 f"3 x {CLEARANCE_HOLE[size]:g} on R{r_tube:g} for {frame_screw.designation} (heads behind); "
                 f"4 x M6 tapped on R{r_tube:g} at 45 deg + k 90 deg: the mounting to the transplanter",
                 "timing: a tube hole on +y (the frame has no angle of its own to keep)",
+            ),
+            (
+                f"in the bearing seat turn the {cbq.designation} groove {cbq.groove_size}, its near edge "
+                f"{cbq.n_min:g} from the front face",
+                f"tap 4 x M6 through on R{r_tube:g} at 45 deg + k 90 deg",
             ),
         ),
     )
@@ -312,7 +330,7 @@ def make(
     carrier plate's seats must lie where the train's carrier drawing has its planet holes."""
     records, files = [], {}
     for p in d.plates:
-        making = Making(width=p.z[1] - p.z[0], features=p.features, material=p.material)
+        making = Making(width=p.z[1] - p.z[0], features=p.features, material=p.material, operations=p.operations)
         where = f"z {p.z[0]:g}..{p.z[1]:g} mm across the machine (0 at the ring's back face)"
         res, shop, _ = manufacture(
             f"{study.name}.{p.part}",

@@ -142,7 +142,7 @@ class Structure:
 @dataclass(frozen=True)
 class Plate:
     """A made plate: its file's stem part (``<machine>.<part>``), outline less ``cut``, features,
-    plane, link and body name, material and the drawing's notes."""
+    plane, link and body name, material, the drawing's notes and the operations after the wire."""
 
     part: str
     blank: shapely.Polygon
@@ -153,6 +153,8 @@ class Plate:
     body: str
     material: str
     notes: tuple[str, ...]
+    #: after the wire, in order (``Making.operations``)
+    operations: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)

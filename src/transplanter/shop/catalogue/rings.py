@@ -60,12 +60,17 @@ class Circlip:
         return "retaining ring for shaft" if self.standard == "DIN 471" else "retaining ring for bore"
 
     @property
+    def groove_size(self) -> str:
+        """The groove's diameter with its deviations and its width with its tolerance class."""
+        return (
+            f"{self.groove_diameter:g} ({_dev(self.groove_upper)}/{_dev(self.groove_lower)}) x "
+            f"{self.groove_width:g} H13"
+        )
+
+    @property
     def groove_note(self) -> str:
         """The groove for a drawing: diameter with deviations, width with its tolerance class, n."""
-        return (
-            f"groove {self.groove_diameter:g} ({_dev(self.groove_upper)}/{_dev(self.groove_lower)}) x "
-            f"{self.groove_width:g} H13, n >= {self.n_min:g} from the end"
-        )
+        return f"groove {self.groove_size}, n >= {self.n_min:g} from the end"
 
 
 @cache
