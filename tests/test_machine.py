@@ -337,6 +337,24 @@ def test_seed_002_under_load(built):
     kappa, r = 1 / 8.0 + 1 / hertz["profile_radius_mm"], 2 * (1 - 0.3**2) / 206_000.0
     closed = math.sqrt(hertz["force_n"] / (math.pi * hertz["width_mm"]) * kappa / r)
     assert 0 < hertz["value_mpa"] == pytest.approx(closed, rel=1e-4) and hertz["force_n"] <= cam["max_n"]
+    # the fixed shaft, built into the frame, rated as a cantilever (issue 42): its clamp moment is no
+    # more than every load's peak at its distance from the clamp's face, and it passes every limit
+    shaft = loads["built_in_shaft"]
+    face = shaft["clamp_z_mm"][1]
+    bound = sum(
+        r["max_radial_n"] * (r["z_mm"] - face)
+        for r in loads["supports"]
+        if r["joint"] == "carrier 1 on the fixed shaft"
+    )
+    sun = next(r for r in loads["meshes"] if r["mesh"] == "sun 2 and gear 3")
+    bound += sun["max_normal_force_n"] * shaft["gear_from_clamp_mm"]
+    assert 0 < shaft["peak_moment_at_clamp_nm"] <= bound * 1e-3 * (1 + 1e-9)
+    assert shaft["pass"] and shaft["deflection_at_gear_mm"] <= shaft["deflection_limit_mm"] == 0.127
+    # every critical section in front of the frame rated: the ring's groove off its face is the least
+    assert shaft["sections_rated"] >= 4 and shaft["least_safe_section"]["kind"] == "groove"
+    assert min(shaft["fatigue_safety"], shaft["yield_safety"]) >= shaft["required_safety"]
+    assert shaft["seat_pressure_mpa"] <= shaft["seat_pressure_allowable_mpa"] and shaft["slope_at_gear_rad"] <= 5e-4
+    assert "built into the frame" in rec["results"]["machine"]["structure"]["shafts"]["main_shaft"]["supports"]
 
 
 def test_the_readme_shows_the_bill_of_materials_the_build_writes(built):

@@ -106,3 +106,26 @@ def test_a_finding_names_each_remedy_once_with_the_elements_it_is_for():
     assert text.endswith(f"to carry it: key_arm_1, key_arm_2, key_arm_3: {hub}; planet_shaft_1: Ø16")
     assert "carries 21.5 N" in text and "key_planet_1" not in text and "ring_shaft" not in text
     assert finding({**rec, "pass": True}, "100 N") is None
+
+
+def test_a_cantilever_bends_as_the_textbook_says():
+    """Issue 42: the fixed shaft built into the frame is rated as a cantilever. Point loads
+    superposed against Roark's closed forms (deflection and slope at the free end, and between the
+    clamp and a load), vector loads at right angles adding as vectors; Shigley's Table 7-2 limits."""
+    from transplanter.families.machines.cantilever import E_STEEL_MPA, deflection_and_slope, gear_deflection_limit_mm
+
+    d = 20.0
+    ei = E_STEEL_MPA * math.pi * d**4 / 64
+    # two loads, 300 N at 40 mm and -100 N at 15 mm, seen at the free end 60 mm out
+    dev, tilt = deflection_and_slope(np.array([[300.0, -100.0]]), np.array([40.0, 15.0]), np.array([60.0]), d)
+    want = 300 * 40**2 * (3 * 60 - 40) / (6 * ei) - 100 * 15**2 * (3 * 60 - 15) / (6 * ei)
+    assert dev == pytest.approx(abs(want), rel=1e-12)
+    assert tilt == pytest.approx(abs(300 * 40**2 / (2 * ei) - 100 * 15**2 / (2 * ei)), rel=1e-12)
+    # between the clamp and the load: F x² (3a - x) / 6EI, slope F x (2a - x) / 2EI
+    dev, tilt = deflection_and_slope(np.array([[300.0]]), np.array([40.0]), np.array([10.0]), d)
+    assert (dev, tilt) == (pytest.approx(300 * 100 * 110 / (6 * ei)), pytest.approx(300 * 10 * 70 / (2 * ei)))
+    # at right angles: the deflections add as vectors; the largest over the rows is taken
+    rows = np.array([[[3.0, 0.0], [0.0, 4.0]], [[1.0, 0.0], [0.0, 1.0]]]) * 100
+    dev, _ = deflection_and_slope(rows, np.array([30.0, 30.0]), np.array([30.0]), d)
+    assert dev == pytest.approx(500 * 30**3 / (3 * ei))
+    assert [gear_deflection_limit_mm(m) for m in (3.0, 1.5, 1.0)] == [0.254, 0.127, 0.0762]

@@ -52,6 +52,7 @@ from transplanter.core.errors import GeometryError
 from transplanter.core.precision import rounded
 from transplanter.families.machines import carrier_teeth
 from transplanter.families.machines import loads as machine_loads_module
+from transplanter.families.machines.cantilever import built_in_row
 from transplanter.families.machines.loads import (
     POSITIONS,
     drive_rows,
@@ -333,12 +334,29 @@ def study_loads(study, placed, bom, links_of: dict, pose_of, bought_bodies, teet
         record["teeth"] = carrier_teeth.teeth_records(study, machine, m, loads, *teeth)
     keys, shafts = _key_joints()
     record["keys_and_shafts"] = shafts_record(m, loads, placed, bom, bought, rigid, pose_of, keys, shafts)
+    # the fixed central shaft: built into the frame, rated as a cantilever (cantilever module docstring)
+    record["built_in_shaft"] = built_in_row(
+        m,
+        loads,
+        placed,
+        bom,
+        "shaft_main",
+        "frame",
+        ("carrier 1 on the fixed shaft", "sun 2 and gear 3"),
+        ("sun 2 and gear 3", float(study.stage23.sized.sizing.module)),
+        keys=("key_frame", "key_sun"),
+        why=(
+            "built in, not held at both ends: carrier 1 turns round the shaft through the whole circle in every "
+            "plane in front of the frame, so nothing of the frame reaches its front end (the front plate's bearing "
+            "there is a seat of carrier 1)"
+        ),
+    )
     return record, loads_picture(study.name, m, loads)
 
 
 def _key_joints() -> tuple[list[KeyJoint], list[str]]:
     """Seed 002's keys — what each joins, what its torque is — and the turned shafts that turn (the
-    fixed main shaft is the frame's: its reactions are not modelled)."""
+    fixed main shaft, built into the frame, is rated as a cantilever: :func:`built_in_row`)."""
     k = KeyJoint
     keys = [
         k("key_sun", "shaft_main", "sun", joints=("sun 2 and gear 3",)),

@@ -243,6 +243,15 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         short = shafts.finding(results["loads"]["keys_and_shafts"], "its inertia and weight at 60 r/min")
         if short:
             record.setdefault("findings", []).append(short)
+        built_in = results["loads"]["built_in_shaft"]
+        if not built_in["pass"]:  # the structure's own shaft: short of its rating fails the part
+            judged["problems"].append(
+                f"the fixed shaft built into the frame falls short ({', '.join(built_in['short'])}): clamp moment "
+                f"{built_in['peak_moment_at_clamp_nm']:g} N m, seat {built_in['seat_pressure_mpa']:g} MPa "
+                f"(allowable {built_in['seat_pressure_allowable_mpa']:g}), deflection at the sun "
+                f"{built_in['deflection_at_gear_mm'] * 1e3:.1f} µm (limit {built_in['deflection_limit_mm'] * 1e3:g}): "
+                "a thicker frame plate or a larger shaft"
+            )
         short = supports_short(results["loads"]["supports"], f"{self.structure.load_n:g} N")
         if short:  # sized for the structure's stated load: a support the computed loads break fails the part
             judged["problems"].append(short)

@@ -309,7 +309,11 @@ def hardware(study, machine) -> Hardware:
     shafts["main_shaft"] = {
         "held_by": ["frame (keyed, two retaining rings)"],
         "carries": ["sun", "cam (on posts)"],
-        "supports": "fixed: clamped in the frame; its front end in the cover's bearing",
+        "supports": (
+            "fixed: built into the frame (H7/k6, keyed, a retaining ring each side) — a cantilever by necessity, "
+            "carrier 1 turning round it in every plane in front of the frame; rated as such in "
+            "loads.built_in_shaft; the cover's bearing on its front end is carrier 1's seat"
+        ),
     }
     shafts["drive_tube"] = {
         "held_by": ["main shaft (two wrapped bushes)"],
