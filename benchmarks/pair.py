@@ -9,13 +9,21 @@ answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
 from one profiled in-process run: imports, the meshing proof on the outlines and on the re-read
 DXF and STL, making the shop files (DXF, STL, 3MF), the STEP (OpenCASCADE), the plots.
 
-Goal (issue 30): the call <= 1.5 s wall on an idle 2-core machine, files unchanged.
+Then the peer a user would pick instead, in the same run: ncgears 0.3.1's one-liner with the same
+expression (``ncgears "phi - 0.08*sin(2*phi)" --teeth 24 --module 1.5``), installed from PyPI into
+a virtual environment of its own under ``~/.cache/transplanter-benchmarks`` (``--no-peer`` skips it),
+three times, wall and CPU — and the ratio of the CPU medians.
 
-Run: python benchmarks/pair.py
+Goals: issue 30, the call <= 1.5 s wall on an idle 2-core machine, files unchanged; issue 46, its CPU
+below the peer's for the same command in the same run, <= 3.5 s wall idle.
+
+Run: python benchmarks/pair.py [--no-peer]
 """
 
+import argparse
 import cProfile
 import filecmp
+import os
 import pstats
 import resource
 import statistics
@@ -36,15 +44,31 @@ STAGES = (
 )
 
 
-def child(out: Path) -> tuple[float, float]:
+PEER = "ncgears==0.3.1"
+
+
+def timed(command: list[str], cwd: Path | None = None) -> tuple[float, float]:
+    """(wall s, CPU s of the child and its children) of ``command``."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
-    subprocess.run(
-        [sys.executable, "-m", "transplanter", "pair", *EXAMPLE, "-o", str(out)], check=True, capture_output=True
-    )
+    subprocess.run(command, check=True, capture_output=True, cwd=cwd)
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def child(out: Path) -> tuple[float, float]:
+    return timed([sys.executable, "-m", "transplanter", "pair", *EXAMPLE, "-o", str(out)])
+
+
+def peer() -> Path:
+    """The peer's command, installed once into its own virtual environment."""
+    env = Path(os.environ.get("XDG_CACHE_HOME", Path.home() / ".cache")) / "transplanter-benchmarks" / "ncgears-0.3.1"
+    exe = env / "bin" / "ncgears"
+    if not exe.exists():
+        subprocess.run([sys.executable, "-m", "venv", str(env)], check=True)
+        subprocess.run([str(env / "bin" / "pip"), "install", "-q", PEER], check=True)
+    return exe
 
 
 def same(a: Path, b: Path) -> bool:
@@ -71,12 +95,25 @@ def teeth_time() -> float:
 
 
 def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--no-peer", action="store_true", help="skip installing and running ncgears")
+    args = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
-        runs = [child(Path(tmp) / f"run{k}") for k in range(3)]
+        exe = None if args.no_peer else peer()
+        runs, theirs = [], []
+        for k in range(3):  # interleaved: a busy spell of a shared machine falls on both
+            runs.append(child(Path(tmp) / f"run{k}"))
+            if exe is not None:
+                (Path(tmp) / f"peer{k}").mkdir()
+                theirs.append(timed([str(exe), *EXAMPLE], cwd=Path(tmp) / f"peer{k}"))
         identical = all(same(Path(tmp) / "run0" / "pair", Path(tmp) / f"run{k}" / "pair") for k in (1, 2))
         wall = statistics.median(w for w, _ in runs)
         cpu = statistics.median(c for _, c in runs)
         print(f"transplanter pair (README example): {wall:.2f} s wall, {cpu:.2f} s CPU (median of 3; goal 1.5 s wall)")
+        if theirs:
+            pw, pc = statistics.median(w for w, _ in theirs), statistics.median(c for _, c in theirs)
+            print(f"ncgears 0.3.1, the same expression:  {pw:.2f} s wall, {pc:.2f} s CPU (median of 3)")
+            print(f"  transplanter / ncgears: {cpu / pc:.2f}x the CPU, {wall / pw:.2f}x the wall (goal: CPU below 1x)")
         print(f"  exports byte-identical across the runs: {identical}")
         ours = teeth_time()
         print(f"  cutting both gears' teeth alone:   {ours * 1e3:.0f} ms  -> the call is {wall / ours:.0f}x that")

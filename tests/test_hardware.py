@@ -3,6 +3,7 @@ judged sections, links mounted on links — no build."""
 
 from __future__ import annotations
 
+import dataclasses
 import io
 import math
 
@@ -106,3 +107,31 @@ def test_a_planet_bearing_leaves_its_sleeve_a_wall_whatever_the_load():
     with pytest.raises(SpecError, match="no planet bearing for Ø10 at needle_force_n = 5000 N: ") as e:
         _planet_bearing(10.0, 60.0, 5e4, Structure(needle_force_n=5000.0))
     assert len(str(e.value)) < 400
+
+
+def test_a_turned_part_lists_its_operations_and_one_drawn_for_reference_ships_its_drawing_only():
+    """Issue 42: the lathe's work as a numbered routing (turn with the seats' fits, the grooves, the
+    keyways, then the part's own operations); quantity 0 ships the drawing, no STL or STEP."""
+    from transplanter.shop import formats
+
+    post = Turned(
+        "p.post",
+        16.0,
+        18.0,
+        grooves=((1.0, 1.1, 15.2, "DIN 471 16x1"),),
+        keyways=((5.0, 8.0, 5.0, 3.0, "key 5x5"),),
+        operations=("drill Ø4.2 and tap M5 10 deep at each end",),
+        material="S235JR",
+    )
+    assert [line for line in post.operation_lines() if line.startswith("op ")] == [
+        "op 10: turn Ø16 x 18",
+        "op 20: turn the circlip grooves",
+        "op 30: mill the keyways",
+        "op 40: drill Ø4.2 and tap M5 10 deep at each end",
+    ]
+    record, files = post.files()
+    assert set(files) == {"p.post.dxf", "p.post.stl", "p.post.step"} and record["operations"][-1].startswith("op 40")
+    drawn = dataclasses.replace(post, quantity=0)
+    record, files = drawn.files()
+    assert set(files) == {"p.post.dxf"} and record["shipped"] == formats.REFERENCE_ONLY
+    assert b"do not make: drawn for reference" in files["p.post.dxf"]

@@ -268,9 +268,9 @@ WORKER_CONFIG = {
     "distributed.nanny.pre-spawn-environ": dict.fromkeys(BLAS_THREADS, 1),
     "distributed.worker.profile.enabled": False,
 }
-#: tasks per worker and generation: enough that a worker done early takes another batch while the
-#: slowest candidates finish (dask's work stealing moves queued batches), few enough that the
-#: per-task cost (~1 ms of scheduling) stays a small part of a batch
+#: batches per worker and generation: enough that a worker done early takes another batch while the
+#: slowest candidates finish (:class:`ClusterMap` sends the next batch to the worker that returns
+#: one), few enough that a task's cost (~3 ms of scheduling and round trip) stays a small part of it
 BATCHES_PER_WORKER = 4
 
 

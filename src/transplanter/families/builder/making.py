@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -90,11 +91,12 @@ def operations(making: Making) -> tuple[str, ...]:
     """
     if not making.operations or not making.quantity:
         return ()
-    tapping = any("tap" in o for o in making.operations)
+    tapping = any(re.search(r"\btap\b", o) for o in making.operations)
     wire = f"wire-cut every contour on {making.layer}" + (" (a hole to tap at its tap drill)" if tapping else "")
     return tuple(f"op {10 * k}: {text}" for k, text in enumerate((wire, *making.operations), 1))
 
 
+#: what a drawing not to cut ships, in its results (``formats.REFERENCE_ONLY``)
 REFERENCE_ONLY = formats.REFERENCE_ONLY
 
 
