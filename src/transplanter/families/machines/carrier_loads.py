@@ -72,8 +72,8 @@ from transplanter.machine.dynamics import (
     Machine,
     Mesh,
     Pin,
-    angular_speed,
     equivalent_load,
+    link_motion,
     solve,
 )
 from transplanter.proof.tooth_stress import STEEL, hertz_line_contact
@@ -179,26 +179,26 @@ def model(study, machine: DoubleCarrierMachine, lumps, placed, bought: dict) -> 
     return Machine(links, lumps, tuple(pins), meshes, drives, contacts=(cam,)), parts
 
 
-def cam_contact_stress(centre, theta, force, axis, roller_radius: float, width: float) -> dict:
+def cam_contact_stress(path, theta, force, axis, roller_radius: float, width: float) -> dict:
     """The largest Hertz stress (line contact, both steel) between a fixed disc cam and a roller
     outside it over the positions ``theta`` (rad) where the cam pushes with ``force`` (N, per
-    position): ``centre(t)`` (n, 2) mm is the roller centre — its path is the cam's pitch curve, whose radius
-    of curvature (central differences of 1 mrad on the motion itself) less the roller's is the
-    profile's at the contact, + where it curves round the cam (its centre of curvature on the side
-    of the cam's ``axis``), − where it is hollow; ``width`` mm the contact's length.
+    position): ``path`` is the roller centre's position, velocity and acceleration ((n, 2) each,
+    :meth:`~transplanter.machine.dynamics.Motion.point`) — its path is the cam's pitch curve, whose
+    radius of curvature ``|v|³ / (v × a)`` less the roller's is the profile's at the contact, + where
+    it curves round the cam (its centre of curvature on the side of the cam's ``axis``), − where it
+    is hollow; ``width`` mm the contact's length.
 
     Examples
     --------
     >>> import numpy as np
-    >>> circle = lambda t: 43.0 * np.stack([np.cos(t), np.sin(t)], axis=1)  # a round cam R35, roller 8
-    >>> row = cam_contact_stress(circle, np.linspace(0, 6, 7), np.full(7, 100.0), (0.0, 0.0), 8.0, 5.0)
+    >>> t = np.linspace(0, 6, 7)  # a round cam R35, roller 8: the centre on R43 at 1 rad/s
+    >>> e, n = np.stack([np.cos(t), np.sin(t)], axis=1), np.stack([-np.sin(t), np.cos(t)], axis=1)
+    >>> row = cam_contact_stress((43 * e, 43 * n, -43 * e), t, np.full(7, 100.0), (0.0, 0.0), 8.0, 5.0)
     >>> row["profile_radius_mm"], round(row["value_mpa"], 1)  # sqrt(F/(pi b) (1/8+1/35) / (2 (1-0.3²)/206 GPa))
     (35.0, 332.7)
     """
-    h = 1e-3
     t = np.asarray(theta, dtype=float)
-    c0, cp, cm = (np.asarray(centre(t + d), dtype=float) for d in (0.0, h, -h))
-    d1, d2 = (cp - cm) / (2 * h), (cp - 2 * c0 + cm) / (h * h)
+    c0, d1, d2 = (np.asarray(v, dtype=float) for v in path)
     speed = np.linalg.norm(d1, axis=1)
     kappa = (d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]) / speed**3  # + turning left
     left = np.stack([-d1[:, 1], d1[:, 0]], axis=1) / speed[:, None]
@@ -230,18 +230,13 @@ def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
     f = loads.contact[:, 0]
     k, j = int(np.argmax(f)), int(np.argmin(f))
     cam = m.contacts[0]
-
-    def roller_centre(t):
-        px, py, pa = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(t))
-        return np.stack([px + cam.point[0] * np.cos(pa), py + cam.point[0] * np.sin(pa)], axis=1)
-
-    x, y, _ = (np.asarray(v, dtype=float) for v in m.links["follower"].pose(loads.theta))
-    centre = roller_centre(loads.theta)
-    dt = 2 * math.pi / loads.theta.size / loads.speed
-    v = np.linalg.norm(np.roll(centre, -1, axis=0) - np.roll(centre, 1, axis=0), axis=1) / (2 * dt)
-    w = angular_speed(m.links["follower"], loads.theta, loads.speed)
+    # the roller centre's path and its derivatives: the follower's motion at the roller's axle
+    lever = link_motion(m.links["follower"], loads.theta, loads.speed)
+    path = lever.point(np.asarray(cam.point, dtype=float))
+    centre, velocity = path[0], path[1]
+    v, w = np.linalg.norm(velocity, axis=1), lever.w
     line = loads.contact_line[:, 0]
-    sense = np.sign(np.einsum("ij,ij->i", np.gradient(centre, axis=0), np.stack([line[:, 1], -line[:, 0]], axis=1)))
+    sense = np.sign(np.einsum("ij,ij->i", velocity, np.stack([line[:, 1], -line[:, 0]], axis=1)))
     rpm = np.abs(sense * v / study.cam.follower.roller_radius - w) * 60 / (2 * math.pi)
     bearing = getattr(roller, "bearing", roller)
     row = {
@@ -253,8 +248,7 @@ def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
         "stays_on_the_cam": bool(f[j] >= 0.0),
     }
     if f[j] < 0.0:  # nothing holds the roller on: what a return spring on the lever must give
-        pivot = np.stack([x, y], axis=1)
-        d = centre - pivot
+        d = centre - lever.o  # from the lever's pivot
         arm = np.abs(d[:, 0] * line[:, 1] - d[:, 1] * line[:, 0])  # the contact line's lever about the pivot, mm
         need = np.maximum(-f, 0.0) * arm * 1e-3
         i = int(np.argmax(need))
@@ -264,7 +258,7 @@ def _roller_row(study, m: Machine, loads, roller, life_h: float) -> dict:
         axis = np.asarray([float(np.ravel(v)[0]) for v in m.links[cam.a].pose(np.zeros(1))[:2]])
         width = min(float(bearing.B), float(study.layers.cam[1] - study.layers.cam[0]))
         row["contact_stress"] = {
-            **cam_contact_stress(roller_centre, loads.theta, f, axis, study.cam.follower.roller_radius, width),
+            **cam_contact_stress(path, loads.theta, f, axis, study.cam.follower.roller_radius, width),
             "width_mm": width,
             "method": "Hertz line contact, steel on steel (E 206 GPa, nu 0.3), nominal; no allowable stated",
         }
