@@ -56,6 +56,8 @@ import numpy as np
 from transplanter.design.objectives import MIN_MODULE_MM, Site, seed004_objectives, worst_of
 from transplanter.design.optimise import Problem
 from transplanter.design.planetary import ArmGeometry, DifferentialTrain
+from transplanter.design.train_view import differential_train_view
+from transplanter.design.views import Kept, Row, rows_from_objectives
 from transplanter.geometry.backlash import design_backlash
 from transplanter.geometry.cutter import ShaperCutter
 from transplanter.geometry.cutter_choice import coarsest_cut
@@ -136,8 +138,12 @@ def design_train(x) -> DifferentialTrain:
     harmonics = tuple(
         (x[k] * math.cos(math.radians(x[k + 1])), x[k] * math.sin(math.radians(x[k + 1]))) for k in (2, 4, 6)
     )
-    arm = ArmGeometry(tip=float(x[9]), knee=float(x[10]), mount=math.radians(x[11]))
-    return DifferentialTrain.from_ratio(lobes, harmonics, float(x[1]), arm, math.radians(x[8]), planets=3)
+    return DifferentialTrain.from_ratio(lobes, harmonics, float(x[1]), design_arm(x), math.radians(x[8]), planets=3)
+
+
+def design_arm(x) -> ArmGeometry:
+    """The arm of a design vector: S, H1, β (the last three variables)."""
+    return ArmGeometry(tip=float(x[9]), knee=float(x[10]), mount=math.radians(x[11]))
 
 
 # Issue 27's stricter design (hard: below; the objectives' margins under the pair's own play)
@@ -299,6 +305,7 @@ def problem(min_module: float | None = None) -> Problem:
             infeasible=1e4,
             choices=("lobe_choice",),
             describe=describe,
+            view=view,
             optimum="OPTIMUM",  # `transplanter optimise parts/_seed004.py --write` records it below
             x0=OPTIMUM,
             spread=SPREAD,
@@ -310,9 +317,65 @@ def problem(min_module: float | None = None) -> Problem:
         infeasible=1e4,
         choices=("lobe_choice",),
         describe=describe,
+        view=view,
         optimum=f"FRONT_{round(min_module * 100)}",
         x0=OPTIMUM,
         spread=SPREAD,
+    )
+
+
+_SCREENED = Kept(8)
+
+
+def _screened(gears: tuple):
+    """The train of the gear variables ``gears`` (the first eight) and its coarsest module that
+    passes the fouling screen (``coarsest_module``), kept for the studio: moving the carrier's
+    start or the arm does not change the pair."""
+
+    def make():
+        train = design_train(gears + tuple(OPTIMUM[len(gears) :]))
+        return train, coarsest_module(train.pair)
+
+    return _SCREENED.get(gears, make)
+
+
+def view(x):
+    """What ``transplanter design`` draws of design ``x``: the train's tip, attitude, pitch curves
+    and the twelve objectives at the design place, the module from the fouling screen (teeth not
+    cut); then (``later``) each objective at its worst under the planets' play and the gear
+    rules of :func:`cuttability`."""
+    x = tuple(float(v) for v in x)
+    pair_train, found = _screened(x[:8])
+    train = dataclasses.replace(pair_train, arm=design_arm(x), carrier_start=math.radians(x[8]))
+    module = found.module if found is not None else 0.0
+    shown = differential_train_view(train, SITE, max(module, 1.0))
+    if found is None:  # no module >= 2 mm meshes: objective xi reads 0, as the search scores it
+        shown = dataclasses.replace(
+            shown,
+            rows=tuple(
+                dataclasses.replace(r, value=0.0, margin=-MIN_MODULE_MM, ok=False) if r.name.startswith("xi ") else r
+                for r in shown.rows
+            ),
+        )
+
+    def later():
+        under = objectives_under_play(train, max(module, 1.0))
+        rules = tuple(
+            Row(
+                what,
+                value,
+                unit,
+                f"{'<=' if k == 0 else '>='} {limit:g} {unit}".strip(),
+                (limit - value) if k == 0 else (value - limit),
+                (value <= limit) if k == 0 else (value >= limit),
+            )
+            for k, (what, value, limit, unit) in enumerate(cuttability(train, module, found))
+        )
+        return rows_from_objectives(under) + rules
+
+    notes = (f"module {module:.3f} mm: the coarsest the fouling screen passes (teeth not cut)", *shown.notes)
+    return dataclasses.replace(
+        shown, notes=notes, later=later, later_title="under the planets' play, and the gear rules"
     )
 
 

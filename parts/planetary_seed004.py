@@ -36,6 +36,7 @@ from _seed004 import (
     front_design,
     front_points,
     made_design,
+    problem,  # noqa: F401 (the studio and the optimiser find problem() here)
     train,
 )
 

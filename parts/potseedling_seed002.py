@@ -12,23 +12,33 @@ cycle.
 import dataclasses
 import math
 
-from _seed002 import CENTRE_DISTANCES, EXPONENT, OPTIMUM, chain, follower, swing
+from _seed002 import (
+    CAM_PRESSURE_LIMIT_DEG,
+    CAM_SAMPLES,
+    CENTRE_DISTANCES,
+    EXPONENT,
+    OPTIMUM,
+    PLANTING_DEPTH,
+    POSE_TOLERANCE,
+    POT_DEPTH,
+    TRAY,
+    chain,
+    follower,
+    problem,  # noqa: F401 (`transplanter design` and `optimise` read problem() from the part script)
+    swing,
+)
 
 from transplanter.families import CamStudy, Family, Making, PitchPairStudy, SynthesisStudy, ToothedPairStudy
 from transplanter.families.machines.carrier_machine import CarrierLayers, DoubleCarrierMachineStudy
 from transplanter.families.machines.carrier_structure import CarrierStructure
 from transplanter.geometry.cutter import ShaperCutter
 from transplanter.geometry.pitch import GearPair, Mesh, PitchCurve
-from transplanter.machine.tray import PotTray
 from transplanter.shop.solids import Features
 
 MODULE = 1.5  # mm, both gear stages
 CUTTER_TEETH = 12  # shaper cutter
 GEAR_WIDTH = 10.0  # mm
 GEAR_BORE = 12.0  # mm, keyed (DIN 6885)
-#: an oscillating follower's pressure angle cannot stay below about half its swing; the poses
-#: force 83.9 deg of swing, and the optimum reaches 45.9 deg (the paper: 43 deg, follower unpublished)
-CAM_PRESSURE_LIMIT_DEG = 46.0
 CAM_WIDTH = 12.0  # mm
 CAM_BORE = 42.0  # mm: clears the Ø36 drive tube by the clearance (the cam sits on posts, not on a shaft)
 #: where the synthesis may place centre and circle points (x ranges and the y range, mm)
@@ -92,13 +102,6 @@ STRUCTURE = CarrierStructure(
     load_n=DESIGN_LOAD_N,
     speed_rpm=60.0,
 )
-#: seed 002's pot tray (§2.2): pots 30 mm at the top edge, 20 at the bottom, 40 deep, the tray inclined
-#: about 55 deg (requirement 6). The cell pitch is ours: the 128-cell tray of the Japanese standard for
-#: fully automatic vegetable transplanters (MAFF/JA: 30 mm cells, 300 x 590 mm, 8 x 16 cells; Yanmar
-#: 30-128), so at most 590/16 = 36.875 mm along its length, which we take down the slope. The picked
-#: row is the tray's lowest (``lowest``): the seedling box feeds the tray down its slope and the emptied
-#: tray turns under the box on its roller (seed 002 §2.1), so the cells drawn are the picked one and 4 uphill
-TRAY = PotTray(pitch=590.0 / 16, top=30.0, bottom=20.0, depth=40.0, inclination_deg=55.0, lowest=True)
 CLEARANCE = 3.0  # mm, between every two bodies that could meet
 PLATE = 8.0  # mm, carriers and arm
 #: materials (transplanter.shop.catalogue): seed 002 names none (its prototype is only "processed").
@@ -165,6 +168,7 @@ def family() -> Family:
         "swing_cam",
         swing(mechanism),
         follower(*OPTIMUM[2]),
+        n=CAM_SAMPLES,
         max_pressure_angle_deg=CAM_PRESSURE_LIMIT_DEG,
         making=Making(width=CAM_WIDTH, features=Features(holes=((0.0, 0.0, CAM_BORE), *posts)), material=GEAR_STEEL),
     )
@@ -186,6 +190,9 @@ def family() -> Family:
         claw=Making(width=6.0, material=CLAW_STEEL),
         structure=STRUCTURE,
         tray=TRAY,
+        pot_depth=POT_DEPTH,
+        planting_depth=PLANTING_DEPTH,
+        pose_tolerance=POSE_TOLERANCE,
     )
     return Family(
         name="potseedling_seed002",

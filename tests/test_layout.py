@@ -22,6 +22,8 @@ MATHS = (
     "design.planetary",
     "design.agronomy",
     "design.objectives",
+    "design.views",
+    "design.train_view",
     "geometry.backlash",
     "geometry.proportions",
 )
@@ -120,9 +122,7 @@ def test_families_reach_the_shop_formats_through_formats_only():
 
 def test_the_maths_imports_no_adapter():
     found = {
-        name: sorted(outer & ADAPTERS)
-        for name, (_, outer) in GRAPH.items()
-        if any(_within(name, m) for m in MATHS)
+        name: sorted(outer & ADAPTERS) for name, (_, outer) in GRAPH.items() if any(_within(name, m) for m in MATHS)
     }
     assert {n: a for n, a in found.items() if a} == {}
     assert all(any(_within(n, m) for n in MODULES) for m in MATHS)  # every name still a module

@@ -233,6 +233,33 @@ def _main(argv: list[str]) -> int:
         help="--write, and record the optimum even if it misses an objective (a margin below 0); "
         "with --write alone such a design is printed, not written",
     )
+    d = sub.add_parser(
+        "design",
+        help="the design studio: a part script's problem() live in the browser (sliders, trajectory, objectives)",
+    )
+    d.add_argument(
+        "script",
+        nargs="?",
+        help="part script defining problem() (e.g. parts/planetary_seed004.py); without it, a page of those in --parts",
+    )
+    d.add_argument("--parts", default="parts", help="without a script: the folder of part scripts (default: parts)")
+    d.add_argument("--port", type=integer_in("--port", 0, 65535), default=0, help="port (default: a free one)")
+    d.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="interface to listen on (default 127.0.0.1, this machine only; another one is warned about)",
+    )
+    d.add_argument("--no-browser", action="store_true", help="print the URL, do not open a browser")
+    d.add_argument("--start", metavar="NAME", help="open on this named design of the script (e.g. FRONT_280)")
+    d.add_argument("--set", action="append", metavar="NAME=VALUE", help="a number passed to problem(), as optimise")
+    d.add_argument(
+        "--workers",
+        type=integer_in("--workers", 1, MAX_WORKERS),
+        default=1,
+        help="searches from the page evaluate designs on N local processes (dask), as optimise",
+    )
+    d.add_argument("--scheduler", metavar="ADDRESS", help="searches from the page evaluate on this Dask cluster")
+    d.add_argument("-o", "--output", default="exports", help='"make parts" builds into this folder (default: exports)')
     c = sub.add_parser("check", help="re-run the meshing and follower checks on built files")
     c.add_argument("folders", nargs="*", help="built family folders, or a folder of them (default: exports)")
     c.add_argument(
@@ -299,7 +326,7 @@ def _main(argv: list[str]) -> int:
         help="incomplete pairs: the driven's free play allowed in dwells and transitions, deg (default 2)",
     )
     p.add_argument("-o", "--output", default="exports", help="output folder (default: exports)")
-    for command in (b, a, o, c):
+    for command in (b, a, o, c, d):
         command.add_argument(
             "--timeout",
             type=timeout_seconds,
@@ -317,6 +344,10 @@ def _main(argv: list[str]) -> int:
             return _cmd_optimise(args)  # its numbers checked as they were parsed (integer_in)
         if args.command == "check":
             return _cmd_check(args)
+        if args.command == "design":
+            from transplanter.app.studio import run as design
+
+            return design(args)
         if args.command == "pair":
             return _cmd_pair(args)
         return _cmd_analyse(args)

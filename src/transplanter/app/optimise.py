@@ -8,16 +8,17 @@ only with ``--write-infeasible`` (:mod:`transplanter.families.builder.optimum`).
 from __future__ import annotations
 
 import argparse
+import inspect
 import math
 import sys
 from pathlib import Path
 
-from transplanter.core.errors import SpecError
+from transplanter.core.errors import PartScriptError, SpecError
 
-__all__ = ["run"]
+__all__ = ["run", "script_problem", "settings_of"]
 
 
-def _settings(pairs: list[str]) -> dict[str, float]:
+def settings_of(pairs: list[str]) -> dict[str, float]:
     """``--set NAME=VALUE`` options as keyword arguments (numbers) for a script's problem()."""
     out = {}
     for pair in pairs:
@@ -33,35 +34,18 @@ def _settings(pairs: list[str]) -> dict[str, float]:
     return out
 
 
-def run(args: argparse.Namespace) -> int:
-    """Optimise the part script's ``problem()`` as ``args`` says and print the best design; the exit status.
-
-    With ``--write`` everything that could refuse the write is checked before the first generation
-    (:mod:`transplanter.families.builder.optimum`: the file, its encoding, the tuple); after the run
-    the optimum is written only if it costs less than the file's own tuple and, unless
-    ``--write-infeasible``, misses no objective (:func:`transplanter.design.optimise.misses`)."""
-    import inspect
-    import json
-    import time
-
-    import numpy as np
-
-    from transplanter.core.errors import PartScriptError
-    from transplanter.design.optimise import Problem, optimise
-    from transplanter.families.builder.optimum import find_optimum, module_file
+def script_problem(path: Path, settings: dict[str, float], timeout: float | None):
+    """(``problem(**settings)`` of the part script at ``path`` — or of a design module beside one —,
+    the names of the module that defines it), run once; PartScriptError or SpecError saying why not."""
+    from transplanter.design.optimise import Problem
     from transplanter.families.builder.scripts import run_script
 
-    path = Path(args.script)
-    write = args.write or args.write_infeasible
-    if write:  # before the script runs: a module that cannot be written is refused at once
-        module_file(path)
-    fn = run_script(path, timeout=args.timeout).get("problem")
+    fn = run_script(path, timeout=timeout).get("problem")
     if not callable(fn):
         raise PartScriptError(
             f"{path}: an optimisable script (a part script or a design module beside one) must define "
             "problem() returning an optimise.Problem"
         )
-    settings = _settings(args.set or [])
     try:
         inspect.signature(fn).bind(**settings)
     except TypeError as exc:
@@ -69,6 +53,29 @@ def run(args: argparse.Namespace) -> int:
     problem = fn(**settings)
     if not isinstance(problem, Problem):
         raise PartScriptError(f"{path}: problem() returned {type(problem).__name__}, expected optimise.Problem")
+    return problem, dict(getattr(fn, "__globals__", {}))
+
+
+def run(args: argparse.Namespace) -> int:
+    """Optimise the part script's ``problem()`` as ``args`` says and print the best design; the exit status.
+
+    With ``--write`` everything that could refuse the write is checked before the first generation
+    (:mod:`transplanter.families.builder.optimum`: the file, its encoding, the tuple); after the run
+    the optimum is written only if it costs less than the file's own tuple and, unless
+    ``--write-infeasible``, misses no objective (:func:`transplanter.design.optimise.misses`)."""
+    import json
+    import time
+
+    import numpy as np
+
+    from transplanter.design.optimise import optimise
+    from transplanter.families.builder.optimum import find_optimum, module_file
+
+    path = Path(args.script)
+    write = args.write or args.write_infeasible
+    if write:  # before the script runs: a module that cannot be written is refused at once
+        module_file(path)
+    problem, _ = script_problem(path, settings_of(args.set or []), args.timeout)
 
     place = None
     if write:

@@ -89,6 +89,13 @@ class Problem:
     #: variable's range as the standard deviation; choices kept as ``x0``'s), half uniformly — a
     #: search that refines a known design without losing sight of the whole range (0: Latin hypercube)
     spread: float = 0.0
+    #: what the design studio draws of a design (``transplanter design``): ``x`` ->
+    #: :class:`~transplanter.design.views.DesignView`; without it the page shows the variables,
+    #: the cost and what ``describe`` says
+    view: Callable[[np.ndarray], object] | None = None
+    #: the design the part script makes of this problem, where it is not ``x0`` (the search's
+    #: start): the studio opens on it
+    design: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         if not self.variables:
@@ -103,6 +110,11 @@ class Problem:
             raise SpecError.out_of_range("spread", self.spread, "a fraction of each range, 0..1")
         if self.spread and self.x0 is None:
             raise SpecError(f"problem {self.name!r}: spread draws the population around x0; give x0")
+        for what, given in (("x0", self.x0), ("design", self.design)):
+            if given is not None and len(given) != len(self.variables):
+                raise SpecError.out_of_range(
+                    f"{what} (its length)", len(given), f"{len(self.variables)}, a value per variable"
+                )
         if self.optimum is not None and not (isinstance(self.optimum, str) and self.optimum.isidentifier()):
             raise SpecError.out_of_range("optimum", self.optimum, "a Python name (the design vector's variable)")
 

@@ -43,7 +43,7 @@ from transplanter.geometry.pitch import GearPair
 from transplanter.machine.bodies import Link
 from transplanter.proof.train_rebuild import measured_error
 
-__all__ = ["MadeMesh", "CarrierLayout", "DoubleCarrierMachine", "pair_pose"]
+__all__ = ["MadeMesh", "CarrierLayout", "DoubleCarrierMachine", "machine_frame", "pair_pose"]
 
 TWO_PI = 2 * math.pi
 #: samples per turn the speed bounds are taken from (plus the largest change between two)
@@ -114,6 +114,17 @@ def _angle(p) -> float:
     return math.atan2(p[1], p[0])
 
 
+def machine_frame(chain: OpenChain3R) -> tuple[float, float, float]:
+    """(x, y, turn) of the synthesis frame's map to the machine frame of ``chain``'s machine:
+    p ↦ R(turn)(p - A0) — A0 at the origin, turned so that the tip's farthest reach from A0 (over
+    1441 positions of the turn) points straight down (:attr:`DoubleCarrierMachine.frame`)."""
+    tau = np.linspace(0.0, TWO_PI, 1441)
+    tip = chain.state(tau).tip
+    a0 = np.asarray(chain.centre, dtype=float)
+    far = tip[int(np.argmax(np.linalg.norm(tip - a0, axis=1)))] - a0
+    return (*chain.centre, -math.pi / 2 - math.atan2(far[1], far[0]))
+
+
 @dataclass(frozen=True)
 class DoubleCarrierMachine:
     """Seed 002's machine (module docstring) from its made meshes and the follower's swing.
@@ -150,11 +161,7 @@ class DoubleCarrierMachine:
         tau = np.linspace(0.0, TWO_PI, 1441)
         b2 = ch.beta2(tau)
         st = ch.state(tau)
-        a0 = np.asarray(ch.centre, dtype=float)
-        r = np.linalg.norm(st.tip - a0, axis=1)
-        far = st.tip[int(np.argmax(r))] - a0
-        down = math.atan2(far[1], far[0])
-        return {"beta2_min": float(b2.min()), "abs1": float(st.link1[0]), "down": down, "rot": -math.pi / 2 - down}
+        return {"beta2_min": float(b2.min()), "abs1": float(st.link1[0]), "rot": machine_frame(ch)[2]}
 
     @property
     def frame(self) -> tuple[float, float, float]:

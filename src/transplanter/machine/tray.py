@@ -43,7 +43,7 @@ import shapely
 from transplanter.core.errors import SpecError, check_int, check_number
 from transplanter.proof.clearance import posed_sections
 
-__all__ = ["PotTray", "axis_angle", "depth_in"]
+__all__ = ["PotTray", "axis_angle", "depth_in", "pot_place"]
 
 
 @dataclass(frozen=True)
@@ -130,6 +130,14 @@ def axis_angle(inclination_deg: float, side: float) -> float:
     check_number("inclination_deg", inclination_deg, 0.0, 90.0, high_open=True, unit="deg")
     turn = math.radians(inclination_deg)
     return -math.pi / 2 + (turn if side > 0 else -turn)
+
+
+def pot_place(inclination_deg: float, tip, attitude: float, depth: float) -> tuple[np.ndarray, float]:
+    """The picked pot's mouth (x, y mm) and axis (rad, into the pot) of a tray inclined
+    ``inclination_deg`` when a claw tip at ``tip`` pointing ``attitude`` (rad) is ``depth`` (mm) down
+    the pot's axis: the axis is the tray's normal on the side the claw points to (:func:`axis_angle`)."""
+    axis = axis_angle(inclination_deg, math.cos(attitude))
+    return np.asarray(tip, dtype=float) - depth * np.array([math.cos(axis), math.sin(axis)]), axis
 
 
 def depth_in(section: shapely.Polygon, poses, pot: shapely.Polygon, mouth, axis: float) -> tuple[float, int]:

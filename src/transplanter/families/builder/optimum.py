@@ -46,7 +46,7 @@ from pathlib import Path
 
 from transplanter.core.errors import ExportError, PartScriptError
 
-__all__ = ["ModuleFile", "OptimumPlace", "find_optimum", "module_file", "number_text", "record_optimum"]
+__all__ = ["ModuleFile", "OptimumPlace", "find_optimum", "module_file", "number_text", "record_optimum", "rewritten"]
 
 #: a design module larger than this is not one (seed 004's is 30 kB), bytes
 MAX_MODULE_BYTES = 4_000_000
@@ -206,6 +206,18 @@ def record_optimum(place: OptimumPlace, values, choices: tuple[bool, ...] = ()) 
     The file is read again first: if its tuple no longer holds what it held when ``place`` was
     found (edited during the search), nothing is written (PartScriptError). ExportError if the file
     cannot be replaced."""
+    new = rewritten(place, values, choices)
+    if new is None:
+        return None
+    module, new_text = new
+    _replace(module, new_text.encode(module.encoding))
+    return module.target
+
+
+def rewritten(place: OptimumPlace, values, choices: tuple[bool, ...] = ()) -> tuple[ModuleFile, str] | None:
+    """(the file as read now, its text with ``values`` in ``place``'s tuple), checked by reading it
+    back, nothing written (what :func:`record_optimum` writes; a diff shows it first); None when
+    every number is the one the file holds. PartScriptError as :func:`record_optimum`."""
     module = module_file(place.module.path)
     now = find_optimum(module, place.name, len(place.values))
     if now.module.target != place.module.target or now.values != place.values:
@@ -233,8 +245,7 @@ def record_optimum(place: OptimumPlace, values, choices: tuple[bool, ...] = ()) 
         want = float(number_text(new, held, choice)) if not _same(new, held) else float(held)
         if float(got) != want:  # the splice is checked by reading it back
             raise PartScriptError(f"{module.path}: the rewritten {place.name} reads back as {list(check.values)}")
-    _replace(module, new_text.encode(module.encoding))
-    return module.target
+    return module, new_text
 
 
 def _replace(module: ModuleFile, data: bytes) -> None:

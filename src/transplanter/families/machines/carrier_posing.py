@@ -197,8 +197,7 @@ def tray_place(study, machine: DoubleCarrierMachine) -> tuple[np.ndarray, float]
     tau = np.array([float(study.chain.pose_tau[1])])
     tip = machine.tip(tau)[0]
     att = float(machine.poses(tau)["arm"][2][0])
-    axis = tray.axis_angle(study.tray.inclination_deg, math.cos(att))
-    return tip - study.pot_depth * np.array([math.cos(axis), math.sin(axis)]), axis
+    return tray.pot_place(study.tray.inclination_deg, tip, att, study.pot_depth)
 
 
 def tray_z(study) -> tuple[tuple[float, float], tuple[float, float]]:

@@ -89,11 +89,11 @@ class Motion:
 
     @cached_property
     def _fit(self):
-        """(ψ, dψ/dφ, d²ψ/dφ²) as callables: a Chebyshev series of an expression, or the
+        """(ψ, dψ/dφ, d²ψ/dφ², d³ψ/dφ³) as callables: a Chebyshev series of an expression, or the
         antiderivative of a ratio spline (CSV)."""
         a, b = math.radians(self.start), math.radians(self.end)
         if isinstance(self.law, CubicSpline):
-            return self.law.antiderivative(), self.law, self.law.derivative()
+            return self.law.antiderivative(), self.law, self.law.derivative(), self.law.derivative(2)
         if callable(self.law):
             raise SpecError("a motion's law must be an expression in phi or a scipy CubicSpline of the ratio")
         psi = _compile(str(self.law))
@@ -111,10 +111,13 @@ class Motion:
                 f"the motion {self.start:g}..{self.end:g} deg: psi = {self.law!r} is not smooth over its segment (its "
                 f"Chebyshev series has not converged at degree {CHEB_DEGREES[-1]})"
             )
-        return cheb, cheb.deriv(1), cheb.deriv(2)
+        return cheb, cheb.deriv(1), cheb.deriv(2), cheb.deriv(3)
 
     def ratio(self, phi, nu: int = 0) -> np.ndarray:
-        """ψ'(φ) (nu = 0) or ψ''(φ) (nu = 1) at driver angles ``phi`` (rad, within the segment)."""
+        """ψ'(φ) (nu = 0), ψ''(φ) (nu = 1) or ψ'''(φ) (nu = 2) at driver angles ``phi`` (rad,
+        within the segment)."""
+        if nu not in (0, 1, 2):
+            raise SpecError.out_of_range("nu", nu, "0, 1 or 2 (the ratio and its first two derivatives)")
         return np.asarray(self._fit[1 + nu](np.asarray(phi, dtype=float)), dtype=float)
 
     def rise(self, phi=None):
@@ -383,16 +386,48 @@ class IncompletePair:
         return kinds[idx]
 
     def r1(self, phi, nu: int = 0, motion: Motion | None = None) -> np.ndarray:
-        """The driver's pitch radius (nu = 0) or its derivative in φ (nu = 1) from the law's ratio
-        (meaningful in a motion; ``motion`` evaluates that motion's law, its ends included)."""
+        """The driver's pitch radius (nu = 0) or its first or second derivative in φ (nu = 1, 2)
+        from the law's ratio (meaningful in a motion; ``motion`` evaluates that motion's law, its
+        ends included)."""
         a = self.centre_distance
         ratio = self.law.ratio if motion is None else motion.ratio
         i = ratio(phi)
-        f = (lambda x: x / (1 + x), lambda x: 1 / (1 + x) ** 2)
+        f = (lambda x: x / (1 + x), lambda x: 1 / (1 + x) ** 2, lambda x: -2 / (1 + x) ** 3)
         if self.mesh == "internal":
-            f = (lambda x: x / (1 - x), lambda x: 1 / (1 - x) ** 2)
+            f = (lambda x: x / (1 - x), lambda x: 1 / (1 - x) ** 2, lambda x: 2 / (1 - x) ** 3)
         with np.errstate(all="ignore"):
-            return a * f[0](i) if nu == 0 else a * f[1](i) * ratio(phi, 1)
+            if nu == 0:
+                return a * f[0](i)
+            if nu == 1:
+                return a * f[1](i) * ratio(phi, 1)
+            di = ratio(phi, 1)
+            return a * (f[2](i) * di * di + f[1](i) * ratio(phi, 2))
+
+    def curvature(self, phi, role: str = "driver", motion: Motion | None = None) -> np.ndarray:
+        """The signed curvature (1/mm, > 0 where convex: ``PitchCurve.curvature``) of the ``role``
+        gear's pitch curve (``"driver"`` or ``"driven"``) at its contact when the driver is at
+        ``phi`` (rad, in a motion; ``motion`` as :meth:`r1`). The driven's curve is ``r2`` at its
+        body angle ``σ ψ`` (σ = -1 external, +1 a ring), so its derivatives in its own angle are
+        those in φ over ``σ ψ'``. The exact curves a cut's virtual curves sample."""
+        if role not in ("driver", "driven"):
+            raise SpecError.out_of_range("role", role, "'driver' or 'driven'")
+        r, dr, ddr = (self.r1(phi, nu, motion) for nu in (0, 1, 2))
+        if role == "driven":
+            ratio = self.law.ratio if motion is None else motion.ratio
+            i, di = ratio(phi), ratio(phi, 1)
+            sign = -1.0 if self.mesh == "external" else 1.0  # r2 = a - r1 or a + r1, and σ
+            r = self.centre_distance + sign * r
+            with np.errstate(all="ignore"):
+                # d/dθ2 = d/dφ / (σ i), r2_φ = σ r1': r2' = r1'/i, r2'' = σ (r1'' i - r1' i') / i³
+                dr, ddr = dr / i, sign * (ddr * i - dr * di) / i**3
+        with np.errstate(all="ignore"):
+            return (r * r + 2 * dr * dr - r * ddr) / (r * r + dr * dr) ** 1.5
+
+    def pressure_deviation(self, phi, motion: Motion | None = None) -> np.ndarray:
+        """ν = atan(r1'/r1), rad, at driver angles ``phi`` (in a motion; ``motion`` as :meth:`r1`):
+        how far both pitch curves' tangent leans from their circle's at the contact (the same angle
+        on both: ``r1'/r1 = r2'/r2`` in each gear's own angle, as ``i = r1/r2``)."""
+        return np.arctan2(self.r1(phi, 1, motion), self.r1(phi, motion=motion))
 
     def r2(self, phi, motion: Motion | None = None) -> np.ndarray:
         """The driven pitch radius at the contact when the driver is at ``phi``."""

@@ -173,11 +173,18 @@ class RatioRadius(Periodic):
         self.breakpoints = ratio.breakpoints
 
     def _f(self, i, nu):
+        """r1/a as a function of the ratio i, or its ``nu``-th derivative in i (nu 0, 1, 2): only that one computed."""
         if self.kind == "external":
-            return (i / (1 + i), 1 / (1 + i) ** 2, -2 / (1 + i) ** 3)[nu]
+            if nu == 0:
+                return i / (1 + i)
+            return 1 / (1 + i) ** 2 if nu == 1 else -2 / (1 + i) ** 3
         if self.kind == "ring":
-            return (i / (i - 1), -1 / (i - 1) ** 2, 2 / (i - 1) ** 3)[nu]
-        return (i / (1 - i), 1 / (1 - i) ** 2, 2 / (1 - i) ** 3)[nu]
+            if nu == 0:
+                return i / (i - 1)
+            return -1 / (i - 1) ** 2 if nu == 1 else 2 / (i - 1) ** 3
+        if nu == 0:
+            return i / (1 - i)
+        return 1 / (1 - i) ** 2 if nu == 1 else 2 / (1 - i) ** 3
 
     def _eval(self, x, nu):
         i = self.ratio(x)
@@ -267,7 +274,11 @@ class GearPair:
         target = 2 * math.pi / n2
 
         def turn(a: float) -> PeriodicIntegral:
-            return PeriodicIntegral(lambda t: r1(t) / (c0 * a + c1 * r1(t)), r1.period, r1.breakpoints)
+            def rate(t):  # dθ2/dθ1 = r1 / r2, r1 evaluated once
+                r = r1(t)
+                return r / (c0 * a + c1 * r)
+
+            return PeriodicIntegral(rate, r1.period, r1.breakpoints)
 
         rmin, rmax = driver.min_radius().value, driver.max_radius().value
         if centre_distance is None:
@@ -334,8 +345,7 @@ class GearPair:
         a = finite_positive("centre_distance", centre_distance)
         if not isinstance(ratio, Periodic):
             raise SpecError(
-                f"ratio must be a transplanter.geometry.pitch.periodic.Periodic, "
-                f"got {type(ratio).__name__}"
+                f"ratio must be a transplanter.geometry.pitch.periodic.Periodic, got {type(ratio).__name__}"
             )
         _scan_positive("transmission ratio ω2/ω1", ratio, ratio.period)
         if mesh is Mesh.EXTERNAL:

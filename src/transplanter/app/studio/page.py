@@ -1,0 +1,461 @@
+"""The studio's page: a Bokeh document for one problem (one per browser tab).
+
+Left, a slider and a number box per design variable, the error beside it, undo/redo, the named
+designs of the part script, save and load. Right, the view's panels (Bokeh figures: a curve per
+:class:`~transplanter.design.views.Curve`, obstacles filled grey), the crank-angle scrubber and
+its play button (the poses are all in the browser: scrubbing asks nothing of the server), the
+objectives table and, once the slow judgement is in, its table.
+
+A change is coalesced: while one design is computed the later changes only replace the design to
+compute next, so a dragged slider never queues a backlog. The slow judgement (``later``) runs on a
+worker thread and is shown only if its design is still the one on the page.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import itertools
+import time
+from functools import partial
+
+import numpy as np
+
+from transplanter.app.studio.later import judge_later
+from transplanter.app.studio.making import making_panel
+from transplanter.app.studio.search import search_panel
+from transplanter.app.studio.session import FORMAT, Computed, Session
+from transplanter.core.errors import TransplanterError
+from transplanter.design.views import Curve, Row
+
+__all__ = ["LATER_AFTER_MS", "PALETTE", "build_page", "rows_html"]
+
+#: the slow judgement (:mod:`.later`, a forked child) starts this long after its design is drawn
+#: (ms), and only if no other design has been asked for since: the drawing's messages go out
+#: first, and while a slider is dragged no child is forked for designs already gone
+LATER_AFTER_MS = 250
+
+#: the title of a slow judgement's panel until its new design's is in
+STALE = "(the design before, computing) "
+
+#: curve colours, in order (matplotlib's tab10: the reports' colours)
+PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
+
+_POSE_JS = """
+const X = poses.data.x, Y = poses.data.y;
+const n = Math.round(360 / scrub.step), m = X.length / n;
+if (!X.length || m != Math.floor(m)) { return; }
+const k = Math.round(scrub.value / scrub.step) % n;
+pose.data = {x: Array.from(X.slice(k * m, (k + 1) * m)), y: Array.from(Y.slice(k * m, (k + 1) * m))};
+"""
+
+_PLAY_JS = """
+if (toggle.active) {
+  window._studio_play = setInterval(() => {
+    scrub.value = (scrub.value + (toggle.tags[0] || 1) * scrub.step * 2 + 360) % 360;
+  }, 40);
+} else { clearInterval(window._studio_play); }
+"""
+
+_SAVE_JS = """
+const design = {};
+for (const s of sliders) { design[s.name.slice(7)] = s.value; }
+const saved = {format: format[0], version: format[1], problem: problem, design: design};
+const blob = new Blob([JSON.stringify(saved, null, 1)], {type: 'application/json'});
+const a = document.createElement('a');
+a.href = URL.createObjectURL(blob); a.download = 'design.json'; a.click();
+"""
+
+
+def rows_html(rows: tuple[Row, ...], name: str, against: tuple[Row, ...] = ()) -> str:
+    """The objectives as an HTML table (text escaped), a row green when met, red when not; each
+    row's value in full precision in ``data-value`` (what a test reads back). With ``against`` (the
+    pinned design B's rows): B's value and the difference, by objective."""
+    other = {r.name: r for r in against}
+    extra = "<th>B</th><th>this - B</th>" if against else ""
+    out = [
+        f'<table class="objectives" id="{name}" style="border-collapse:collapse;font-size:13px">',
+        f"<tr><th align=left>objective</th><th>value</th><th>limit</th><th>margin</th><th></th>{extra}</tr>",
+    ]
+    for r in rows:
+        colour = "#e3f4e3" if r.ok else "#f9dddd"
+        b = other.get(r.name)
+        more = ""
+        if against:
+            more = "<td></td><td></td>" if b is None else f"<td align=right>{b.value:.4g}</td>"
+            more += "" if b is None else f"<td align=right>{r.value - b.value:+.3g}</td>"
+        out.append(
+            f'<tr style="background:{colour}" data-name="{html.escape(r.name)}" data-value="{r.value!r}" '
+            f'data-ok="{int(r.ok)}"><td>{html.escape(r.name)}</td>'
+            f"<td align=right>{r.value:.4g} {html.escape(r.unit)}</td><td>{html.escape(r.limit)}</td>"
+            f"<td align=right>{r.margin:+.3g}</td><td>{'pass' if r.ok else 'FAIL'}</td>{more}</tr>"
+        )
+    out.append("</table>")
+    return "".join(out)
+
+
+def _closed(c: Curve) -> np.ndarray:
+    return np.vstack([c.xy, c.xy[:1]]) if c.closed and c.kind != "obstacle" else c.xy
+
+
+def _same(old: dict, new: dict) -> bool:
+    """Whether a source's columns hold ``new`` already (lists of arrays compared elementwise)."""
+    if set(old) != set(new):
+        return False
+    for name, column in new.items():
+        held = old[name]
+        if len(held) != len(column):
+            return False
+        for a, b in zip(held, column, strict=True):
+            if not np.array_equal(np.asarray(a), np.asarray(b)):
+                return False
+    return True
+
+
+def build_page(
+    doc,
+    problem,
+    start,
+    designs: dict[str, tuple[float, ...]],
+    title: str,
+    workers: int = 1,
+    scheduler: str | None = None,
+    making: tuple | None = None,
+) -> None:
+    """Fill Bokeh document ``doc`` with the studio for ``problem``, opening on design ``start``;
+    ``designs``: the part script's named designs (a menu); ``workers``/``scheduler``: where its
+    searches evaluate designs (:mod:`.search`); ``making``: (part script, the file ``problem()``
+    is in, the build's output folder) for "make parts" (:mod:`.making`)."""
+    from bokeh.layouts import column, row
+    from bokeh.models import (
+        Button,
+        ColumnDataSource,
+        CustomJS,
+        Div,
+        FileInput,
+        Select,
+        Slider,
+        TextInput,
+        Toggle,
+    )
+    from bokeh.plotting import figure
+
+    session = Session(problem, start)
+    names = session.names
+    bounds = {n: (lo, hi) for n, lo, hi in problem.variables}
+    sliders, boxes, errors = {}, {}, {}
+    for n in names:
+        lo, hi = bounds[n]
+        sliders[n] = Slider(
+            start=lo,
+            end=hi,
+            value=session.x[names.index(n)],
+            step=(hi - lo) / 1000,
+            title=f"{n}",
+            name=f"slider-{n}",
+            width=230,
+            show_value=False,
+        )
+        boxes[n] = TextInput(value=f"{session.x[names.index(n)]:.6g}", name=f"box-{n}", width=95)
+        errors[n] = Div(text="", name=f"error-{n}", styles={"color": "#b00020", "font-size": "12px"}, width=330)
+    # one Div for the notes and both tables: every model changed is a message and, for a Div, a
+    # layout of the page in the browser
+    load_said = Div(text="", name="error-load", styles={"color": "#b00020", "font-size": "12px"}, width=330)
+    results = Div(text="", name="results", width=900)
+    undo, redo = Button(label="undo", name="undo", width=70), Button(label="redo", name="redo", width=70)
+    save = Button(label="save design", name="save", width=100)
+    pin = Button(label="pin as B", name="pin", width=80)
+    load = FileInput(accept=".json", name="load", width=200)
+    menu = Select(
+        title="start from", options=["(this design)", *designs], value="(this design)", name="designs", width=200
+    )
+    scrub = Slider(start=0.0, end=359.5, value=0.0, step=0.5, title="carrier angle (deg)", name="scrub", width=400)
+    play = Toggle(label="play", name="play", width=70)
+    pose_src = ColumnDataSource({"x": [], "y": []}, name="pose")
+    poses_src = ColumnDataSource({"x": [], "y": []}, name="poses")
+    scrub.js_on_change("value", CustomJS(args={"poses": poses_src, "pose": pose_src, "scrub": scrub}, code=_POSE_JS))
+    play.js_on_change("active", CustomJS(args={"toggle": play, "scrub": scrub}, code=_PLAY_JS))
+    save.js_on_click(
+        CustomJS(
+            args={"sliders": list(sliders.values()), "problem": problem.name, "format": list(FORMAT)}, code=_SAVE_JS
+        )
+    )
+
+    figures: list = []
+    sources: dict = {}
+    plots = column(Div(text="<i>computing the first design…</i>"), name="plots")  # its figures replace it
+    serial = itertools.count(1)
+    state: dict = {
+        "pending": None,
+        "busy": False,
+        "shown": 0,
+        "pinned": None,
+        "view": None,
+        "cancel": lambda: None,
+        "later_panels": (),
+        "pinned_later": (),
+    }
+
+    def ensure_figures(panels, pose) -> None:
+        while len(figures) < len(panels):
+            p = panels[len(figures)]
+            f = figure(
+                title=p.title,
+                width=450,
+                height=360,
+                x_axis_label=p.x_label,
+                y_axis_label=p.y_label,
+                match_aspect=p.equal,
+                name=f"panel-{len(figures)}",
+                tools="pan,wheel_zoom,box_zoom,reset,save",
+            )
+            f.toolbar.logo = None
+            figures.append(f)
+            if pose is not None and pose.panel == len(figures) - 1:
+                f.line("x", "y", source=pose_src, color="black", line_width=2)
+                f.scatter("x", "y", source=pose_src, color="black", size=5)
+            pairs = [figures[i : i + 2] for i in range(0, len(figures), 2)]
+            plots.children = [row(*fs) for fs in pairs]
+
+    def draw_panels(panels, first: int, pinned) -> None:
+        """``panels`` into the figures from index ``first``; ``pinned``: design B's (same order)."""
+        for k, p in enumerate(panels):
+            i = first + k
+            if figures[i].title.text != p.title:
+                figures[i].title.text = p.title
+            for kind in ("path", "obstacle", "mark"):
+                update(i, kind, [(j, c) for j, c in enumerate(p.curves) if c.kind == kind])
+            b = pinned[k].curves if k < len(pinned) else ()
+            update(i, "pinned", [(j, c) for j, c in enumerate(b) if c.kind == "path"])
+
+    def update(i: int, kind: str, curves) -> None:
+        """One source per panel and kind of curve (a message per panel), left alone if nothing moved;
+        its labels in a column of its own (a legend merges the items of one column name)."""
+        label = f"label_{kind}"
+        if kind == "pinned":  # design B's paths, dashed
+            data = {
+                "xs": [_closed(c)[:, 0] for _, c in curves],
+                "ys": [_closed(c)[:, 1] for _, c in curves],
+                label: [f"B: {c.name}" for _, c in curves],
+                "color": ["#555555" for _ in curves],
+            }
+        elif kind == "mark":
+            pts = [(j, c.name, xy) for j, c in curves for xy in c.xy]
+            data = {
+                "x": [xy[0] for _, _, xy in pts],
+                "y": [xy[1] for _, _, xy in pts],
+                label: [n for _, n, _ in pts],
+                "color": [PALETTE[j % len(PALETTE)] for j, _, _ in pts],
+            }
+        else:
+            data = {
+                "xs": [_closed(c)[:, 0] for _, c in curves],
+                "ys": [_closed(c)[:, 1] for _, c in curves],
+                label: [c.name for _, c in curves],
+                "color": [PALETTE[j % len(PALETTE)] for j, _ in curves],
+            }
+        key = (i, kind)
+        if key in sources:
+            if not _same(sources[key].data, data):
+                sources[key].data = data
+            return
+        if not curves:
+            return
+        src = sources[key] = ColumnDataSource(data, name=f"curves-{i}-{kind}")
+        f = figures[i]
+        if kind == "obstacle":
+            f.patches(
+                "xs", "ys", source=src, fill_color="#999999", fill_alpha=0.25, line_color="#777777", legend_field=label
+            )
+        elif kind == "mark":
+            f.scatter("x", "y", source=src, color="color", size=8, legend_field=label)
+        elif kind == "pinned":
+            f.multi_line("xs", "ys", source=src, color="color", line_dash="dashed", line_width=1.2, legend_field=label)
+        else:
+            f.multi_line("xs", "ys", source=src, color="color", line_width=1.6, legend_field=label)
+        f.legend.location = "top_left"
+        f.legend.label_text_font_size = "10px"
+        f.legend.click_policy = "hide"
+
+    def draw(computed: Computed) -> None:
+        view = computed.view
+        if view is None:
+            said = html.escape(computed.error)
+            results.text = (
+                f'<p data-serial="{state["shown"]}"><b style="color:#b00020">{said}</b> ({computed.ms:.0f} ms)</p>'
+            )
+            return
+        state["view"] = view
+        ensure_figures(view.panels, view.pose)
+        draw_panels(view.panels, 0, state["pinned"].panels if state["pinned"] else ())
+        for i in range(len(view.panels), len(figures)):  # the slow judgement's panels: the design before's
+            if not figures[i].title.text.startswith(STALE):  # said in the title (redrawing them empty
+                figures[i].title.text = STALE + figures[i].title.text  # would cost the browser a repaint)
+        if view.pose is not None:
+            n, m = view.pose.lines.shape[:2]
+            flat = view.pose.lines.reshape(-1, 2).astype(np.float32)  # drawn only: 0.01 µm at 1 m
+            poses_src.data = {"x": flat[:, 0], "y": flat[:, 1]}
+            if scrub.step != 360.0 / n:
+                scrub.step = 360.0 / n
+            i = int(round(scrub.value / 360.0 * n)) % n
+            pose_src.data = {"x": view.pose.lines[i, :, 0], "y": view.pose.lines[i, :, 1]}
+            if play.tags != [view.pose.sense]:
+                play.tags = [view.pose.sense]
+            if scrub.title != view.pose.label:
+                scrub.title = view.pose.label
+        met = sum(r.ok for r in view.rows)
+        said = (
+            f'<p data-serial="{state["shown"]}"><b>{met} of {len(view.rows)} objectives met</b>; '
+            f"the library's view {computed.ms:.0f} ms, the server's answer "
+            f'<span class="server-ms">{(time.perf_counter() - state["since"]) * 1e3:.1f}</span> ms</p>'
+        )
+        notes = "<br>".join(html.escape(s) for s in view.notes)
+        against = state["pinned"].rows if state["pinned"] else ()
+        state["quick"] = said + notes + rows_html(view.rows, "objectives-table", against)
+        waiting = f"<p><i>{html.escape(view.later_title)}: computing…</i></p>" if view.later else ""
+        results.text = state["quick"] + waiting
+        if view.later is not None:  # once this design's messages are out, unless another follows
+            doc.add_timeout_callback(partial(start_later, state["shown"], view), LATER_AFTER_MS)
+
+    def start_later(number: int, view) -> None:
+        if number == state["shown"]:
+            state["cancel"]()
+            state["cancel"] = judge_later(view.later, partial(later_done, number, view.later_title))
+
+    def later_done(number: int, title: str, kind: str, payload) -> None:
+        if kind == "view":  # panels drawn after the quick view's, and rows
+            doc.add_next_tick_callback(partial(show_later_panels, number, payload.panels))
+            kind, payload = "rows", payload.rows
+        if kind == "rows":
+            text = f"<p><b>{html.escape(title)}</b></p>" + rows_html(tuple(payload), "later-table")
+        elif kind == "error":
+            text = f'<b style="color:#b00020">{html.escape(str(payload))}</b>'
+        else:
+            said = html.escape(f"the part script's judgement failed: {payload}")
+            text = f'<b style="color:#b00020">{said}</b>'
+        doc.add_next_tick_callback(partial(show_later, number, text))
+
+    def show_later_panels(number: int, panels) -> None:
+        if number == state["shown"] and state["view"] is not None:
+            first = len(state["view"].panels)
+            ensure_figures((*state["view"].panels, *panels), None)
+            pinned = state["pinned_later"] if state["pinned"] else ()
+            draw_panels(panels, first, pinned)
+            state["later_panels"] = panels
+
+    def show_later(number: int, text: str) -> None:
+        if number == state["shown"]:
+            results.text = state["quick"] + text
+
+    def compute_pending() -> None:
+        state["cancel"]()  # the judgement of the design being replaced
+        x = state["pending"]
+        state["pending"] = None
+        state["since"] = state.pop("asked")
+        computed = session.compute(x)
+        state["shown"] = next(serial)
+        doc.hold("combine")
+        draw(computed)
+        doc.unhold()
+        if state["pending"] is not None:
+            doc.add_next_tick_callback(compute_pending)
+        else:
+            state["busy"] = False
+
+    def request(x) -> None:
+        if state["pending"] is None:  # the server's time is counted from the first change it answers
+            state["asked"] = time.perf_counter()
+        state["pending"] = x
+        if not state["busy"]:
+            state["busy"] = True
+            doc.add_next_tick_callback(compute_pending)
+
+    def show_design(x) -> None:
+        for n, v in zip(names, x, strict=True):
+            sliders[n].value = v
+            boxes[n].value = f"{v:.6g}"
+            errors[n].text = ""
+        request(x)
+
+    syncing = {"on": False}
+
+    def on_slider(name, attr, old, new) -> None:
+        if syncing["on"]:
+            return
+        x = session.set(name, float(new))
+        syncing["on"] = True
+        boxes[name].value = f"{new:.6g}"
+        errors[name].text = ""
+        syncing["on"] = False
+        request(x)
+
+    def on_box(name, attr, old, new) -> None:
+        if syncing["on"]:
+            return
+        try:
+            x = session.set(name, new)
+        except TransplanterError as exc:
+            errors[name].text = html.escape(str(exc))
+            return
+        errors[name].text = ""
+        syncing["on"] = True
+        sliders[name].value = x[names.index(name)]
+        syncing["on"] = False
+        request(x)
+
+    def on_history(step) -> None:
+        syncing["on"] = True
+        show_design(step())
+        syncing["on"] = False
+
+    def on_pin() -> None:  # the design on the page becomes B (unpin: none)
+        state["pinned"] = state["view"] if state["pinned"] is None else None
+        state["pinned_later"] = state["later_panels"]
+        pin.label = "unpin B" if state["pinned"] is not None else "pin as B"
+        request(session.x)
+
+    def adopt_design(x) -> None:
+        syncing["on"] = True
+        show_design(session.adopt(x))
+        syncing["on"] = False
+
+    def on_menu(attr, old, new) -> None:
+        if new in designs:
+            syncing["on"] = True
+            show_design(session.adopt(designs[new]))
+            syncing["on"] = False
+            menu.value = "(this design)"
+
+    def on_load(attr, old, new) -> None:
+        try:
+            text = base64.b64decode(new, validate=True)
+            loaded = Session.load(problem, text)
+        except (TransplanterError, ValueError) as exc:
+            load_said.text = html.escape(str(exc))
+            return
+        load_said.text = ""
+        syncing["on"] = True
+        show_design(session.adopt(loaded.x))
+        syncing["on"] = False
+
+    for n in names:
+        sliders[n].on_change("value", partial(on_slider, n))
+        boxes[n].on_change("value", partial(on_box, n))
+    undo.on_click(lambda: on_history(session.undo))
+    pin.on_click(on_pin)
+    redo.on_click(lambda: on_history(session.redo))
+    menu.on_change("value", on_menu)
+    load.on_change("value", on_load)
+
+    controls = [Div(text=f"<h3>{html.escape(title)}</h3>", width=340)]
+    for n in names:
+        controls += [row(sliders[n], boxes[n]), errors[n]]
+    controls += [row(undo, redo, save, pin), row(menu), row(Div(text="load a design:", width=90), load), load_said]
+    controls.append(search_panel(doc, session, adopt_design, workers, scheduler))
+    if making is not None:
+        controls.append(making_panel(doc, session, *making))
+    right = column(plots, row(scrub, play), results)
+    doc.add_root(row(column(*controls), right))
+    doc.title = f"transplanter design: {title}"
+    doc.on_session_destroyed(lambda ctx: state["cancel"]())
+    request(session.x)
