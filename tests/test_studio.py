@@ -461,3 +461,12 @@ def test_seed_002_page_draws_its_gear_stages_once_its_slow_judgement_is_in(brows
             "return out;"
         )
     assert len(titles) == 6 and not any(t.startswith("(the design before") for t in titles), titles
+
+
+def test_a_saved_design_nested_too_deep_or_with_a_huge_integer_is_refused_naming_it():
+    with pytest.raises(SpecError, match="nested deeper"):
+        Session.load(BOWL, "[" * 80_000)
+    doc = json.loads(Session(BOWL, (0.0, 45.0)).saved())
+    doc["design"]["x_mm"] = 10**401
+    with pytest.raises(SpecError, match="x_mm = 'an integer of 402 digits' is out of range: must be finite"):
+        Session.load(BOWL, json.dumps(doc))

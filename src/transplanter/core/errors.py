@@ -92,7 +92,10 @@ def finite_array(name: str, values, ndim: int = 1) -> np.ndarray:
 def _real(name: str, value) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise SpecError(f"{name} must be a number, got {value!r}")
-    v = float(value)
+    try:
+        v = float(value)
+    except OverflowError:  # an integer beyond any float (10**400): said by its size, not its digits
+        raise SpecError.out_of_range(name, f"an integer of {len(str(value).lstrip('-'))} digits", "finite") from None
     if not math.isfinite(v):
         raise SpecError.out_of_range(name, value, "finite")
     return v

@@ -21,6 +21,12 @@ from transplanter.core.errors import TransplanterError
 
 __all__ = ["making_panel"]
 
+#: said beside every diff: the page's verdict is the view's, the build's is its proofs'
+CAVEAT = (
+    "<p><i>The page judged this design as its view does (for seed 004: the fouling screen's module, teeth not "
+    "cut, 720 samples); the build cuts the teeth and proves the made parts, and may refuse what the page passed "
+    "(its report says why). Writing it changes the file; undo does not.</i></p>"
+)
 #: lines of the build's output the page keeps (the last ones)
 SHOWN_LINES = 40
 
@@ -89,7 +95,7 @@ def making_panel(doc, session, script: Path, design_file: Path | None, output: P
             said.text = f"{html.escape(problem.optimum)} in {html.escape(str(design_file))} holds this design: build it"
             return
         text = _diff(*new)
-        said.text = f"<pre style='font-size:11px;max-height:260px;overflow:auto'>{html.escape(text)}</pre>"
+        said.text = f"<pre style='font-size:11px;max-height:260px;overflow:auto'>{html.escape(text)}</pre>" + CAVEAT
 
     def lines_to_page(lines: list[str], links: str = "") -> None:
         said.text = "<pre style='font-size:11px'>" + html.escape("".join(lines[-SHOWN_LINES:])) + "</pre>" + links

@@ -382,7 +382,11 @@ def build_page(
     def on_slider(name, attr, old, new) -> None:
         if syncing["on"]:
             return
-        x = session.set(name, float(new))
+        try:
+            x = session.set(name, float(new))
+        except TransplanterError as exc:  # only a page driven by script can send it past its ends
+            errors[name].text = html.escape(str(exc))
+            return
         syncing["on"] = True
         boxes[name].value = f"{new:.6g}"
         errors[name].text = ""
@@ -427,6 +431,7 @@ def build_page(
             menu.value = "(this design)"
 
     def on_load(attr, old, new) -> None:
+        load_said.text = ""  # the last file's message is not this one's
         try:
             text = base64.b64decode(new, validate=True)
             loaded = Session.load(problem, text)

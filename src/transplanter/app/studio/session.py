@@ -167,6 +167,8 @@ class Session:
             doc = json.loads(text)
         except (ValueError, UnicodeDecodeError) as exc:
             raise SpecError(f"saved design: not JSON ({exc})") from None
+        except RecursionError:  # brackets nested deeper than any design
+            raise SpecError("saved design: not a design (nested deeper than Python reads)") from None
         if not isinstance(doc, dict) or doc.get("format") != FORMAT[0]:
             raise SpecError(f"saved design: not a {FORMAT[0]} document")
         if doc.get("version") != FORMAT[1]:
