@@ -53,11 +53,12 @@ import math
 
 import numpy as np
 
+from transplanter.core.errors import GeometryError
 from transplanter.design.objectives import MIN_MODULE_MM, Site, seed004_objectives, worst_of
 from transplanter.design.optimise import Problem
 from transplanter.design.planetary import ArmGeometry, DifferentialTrain
 from transplanter.design.train_view import differential_train_view
-from transplanter.design.views import Kept, Row, rows_from_objectives
+from transplanter.design.views import DesignView, Kept, Row, rows_from_objectives
 from transplanter.geometry.backlash import design_backlash
 from transplanter.geometry.cutter import ShaperCutter
 from transplanter.geometry.cutter_choice import coarsest_cut
@@ -317,7 +318,7 @@ def problem(min_module: float | None = None) -> Problem:
         infeasible=1e4,
         choices=("lobe_choice",),
         describe=describe,
-        view=view,
+        view=functools.partial(view, written=f"FRONT_{round(min_module * 100)}"),
         optimum=f"FRONT_{round(min_module * 100)}",
         x0=OPTIMUM,
         spread=SPREAD,
@@ -339,11 +340,26 @@ def _screened(gears: tuple):
     return _SCREENED.get(gears, make)
 
 
-def view(x):
+def _rule_rows(rules) -> tuple[Row, ...]:
+    """Rows of :func:`cuttability`'s gear rules (the first an upper limit, the rest lower ones)."""
+    return tuple(
+        Row(
+            what,
+            value,
+            unit,
+            f"{'<=' if k == 0 else '>='} {limit:g} {unit}".strip(),
+            (limit - value) if k == 0 else (value - limit),
+            (value <= limit) if k == 0 else (value >= limit),
+        )
+        for k, (what, value, limit, unit) in enumerate(rules)
+    )
+
+
+def view(x, written: str = "OPTIMUM"):
     """What ``transplanter design`` draws of design ``x``: the train's tip, attitude, pitch curves
-    and the twelve objectives at the design place, the module from the fouling screen (teeth not
-    cut); then (``later``) each objective at its worst under the planets' play and the gear
-    rules of :func:`cuttability`."""
+    and the twelve objectives at the design place, the module the search measures (the fouling
+    screen under the rules above, teeth not cut); then (``later``) :func:`as_built` — what the
+    build would make of it written as ``written`` and whether it would refuse it."""
     x = tuple(float(v) for v in x)
     pair_train, found = _screened(x[:8])
     train = dataclasses.replace(pair_train, arm=design_arm(x), carrier_start=math.radians(x[8]))
@@ -358,24 +374,16 @@ def view(x):
             ),
         )
 
-    def later():
-        under = objectives_under_play(train, max(module, 1.0))
-        rules = tuple(
-            Row(
-                what,
-                value,
-                unit,
-                f"{'<=' if k == 0 else '>='} {limit:g} {unit}".strip(),
-                (limit - value) if k == 0 else (value - limit),
-                (value <= limit) if k == 0 else (value >= limit),
-            )
-            for k, (what, value, limit, unit) in enumerate(cuttability(train, module, found))
-        )
-        return rows_from_objectives(under) + rules
-
-    notes = (f"module {module:.3f} mm: the coarsest the fouling screen passes (teeth not cut)", *shown.notes)
+    notes = (
+        f"module {module:.3f} mm: the coarsest the fouling screen passes with ring tips >= {RING_ADDENDUM_MIN:g} m "
+        f"and a mean contact ratio >= {CONTACT_RATIO_MIN:g} (teeth not cut, 720 samples: the search's measure)",
+        *shown.notes,
+    )
     return dataclasses.replace(
-        shown, notes=notes, later=later, later_title="under the planets' play, and the gear rules"
+        shown,
+        notes=notes,
+        later=functools.partial(as_built, x, written),
+        later_title=f"as the build makes it, written as {written}",
     )
 
 
@@ -472,11 +480,18 @@ FRONT_310 = (
 )
 
 
-@functools.cache
+_FRONT = Kept(16)
+
+
 def _front_point(x: tuple, level: float = 0.0):
     """A design as the front's search measures it: (module under the rules above, smallest margin
     under play, the objective that has it, feasible: every objective but the module (the front's
-    other axis) met at the design place, the gear rules kept and the module at least ``level``)."""
+    other axis) met at the design place, the gear rules kept and the module at least ``level``);
+    kept (``views.Kept``: the studio's view reaches it, and a search's workers receive the view)."""
+    return _FRONT.get((tuple(x), level), lambda: _measured_front_point(x, level))
+
+
+def _measured_front_point(x: tuple, level: float):
     train, found, objectives, rules = evaluate(x, cut=False)
     module = found.module if found is not None else 0.0
     nominal = seed004_objectives(train, SITE, max(module, 1.0), n=720)
@@ -485,21 +500,74 @@ def _front_point(x: tuple, level: float = 0.0):
     return module, margin, binding, feasible
 
 
-def made_design():
+def made_design(**written):
     """(design vector, its teeth: ``ScreenResult``) the part script makes: the front's feasible
     point with the coarsest module that meets objective xi too, cut under the rules above; where
     the front has none, OPTIMUM cut as before issue 27 (the ring's tips trimmed as short as the
-    screen needs) — the nearest design that can be built, which the train's study says."""
+    screen needs) — the nearest design that can be built, which the train's study says.
+
+    ``written``: a design in place of one of those tuples (``OPTIMUM=x``, ``FRONT_280=x``) — what
+    the build would make were it written there (the studio asks before it writes)."""
     found = []
     for level in FRONT_LEVELS:
-        x = globals()[f"FRONT_{round(level * 100)}"]
+        name = f"FRONT_{round(level * 100)}"
+        x = written.get(name, globals()[name])
         module, margin, _, feasible = _front_point(tuple(x), level)
         if feasible and module >= MIN_MODULE_MM:
             found.append((module, margin, x))
     if found:
         x = max(found, key=lambda f: (f[0], f[1]))[2]
         return x, coarsest_module(design_train(x).pair, cut=True)
-    return OPTIMUM, coarsest_cut(design_train(OPTIMUM).pair, max_module=6.0, min_module=2.0)
+    x = written.get("OPTIMUM", OPTIMUM)
+    return x, coarsest_cut(design_train(x).pair, max_module=6.0, min_module=2.0)
+
+
+def as_built(x, written: str = "OPTIMUM") -> DesignView:
+    """What ``transplanter build`` would make of design ``x`` written as ``written`` (a tuple
+    :func:`made_design` reads) and whether it would refuse it, judged as the build judges: the
+    teeth cut as :func:`made_design` cuts them (``coarsest_cut``: seconds), the twelve objectives
+    at the design place at that module over ``seed004_objectives``' 1440 samples — the
+    ``optimised_train`` study's own call, which refuses a miss (``must_meet``) —, each at its
+    worst under the planets' play at that module (the margins ``MARGINS_UNDER_PLAY`` the train's
+    proof states), and the gear rules of :func:`cuttability`. The build proves the made parts
+    besides (meshing, backlash, the machine's clearances), which this does not."""
+    x = tuple(float(v) for v in x)
+    made, cut = made_design(**{written: x})
+    if tuple(float(v) for v in made) != x:
+        other = next(
+            (n for n in ("OPTIMUM", *(f"FRONT_{round(lv * 100)}" for lv in FRONT_LEVELS)) if globals()[n] == made),
+            "another design",
+        )
+        raise GeometryError(
+            f"the build would make {other}, not this design: written as {written} it is not the front's coarsest "
+            "feasible point (made_design)"
+        )
+    train = design_train(x)
+    if cut is None:
+        raise GeometryError("the build would refuse it: no module of 2-6 mm passes the fouling screen and cuts")
+    at_place = seed004_objectives(train, SITE, cut.module)  # the optimised_train study's call
+    missed = [
+        f"{o.number} {o.name} {o.value:.4g} {o.unit} ({o.limit})".replace("  ", " ") for o in at_place if not o.ok
+    ]
+    verdict = (
+        "the build would refuse optimised_train (a missed objective): " + "; ".join(missed)
+        if missed
+        else "the build would make it: every objective met at the design place"
+    )
+    teeth = f"{cut.teeth[0]}/{cut.teeth[1]} teeth at m = {cut.module:.3f} mm, ring tips {cut.ring_addendum:.2f} m"
+    under = objectives_under_play(train, cut.module)
+    marked = tuple(
+        dataclasses.replace(r, name=f"{r.name} (under play)")
+        for r in rows_from_objectives(under)
+        if r.name[:3] != "xi "
+    )
+    how = f"cut as the build cuts it ({written}): {teeth}"
+    if written == "OPTIMUM":  # made_design's fallback: the rules before issue 27 (see the rows)
+        how += "; OPTIMUM is cut under the rules before issue 27, its ring tips as short as the screen needs"
+    return DesignView(
+        rows=rows_from_objectives(at_place) + marked + _rule_rows(cuttability(train, cut.module, cut)),
+        notes=(verdict, how),
+    )
 
 
 def front_design(level: float) -> tuple:

@@ -33,14 +33,19 @@ from transplanter.families import Family, Making
 from transplanter.families.pairs.incomplete_pair import IncompletePairStudy
 from transplanter.geometry.cutter import ShaperCutter
 from transplanter.geometry.dwell_entry import TIP_BAND
-from transplanter.geometry.incomplete import check_fit
 from transplanter.geometry.pitch.intermittent import IntermittentLaw
 from transplanter.shop.solids import Features
 
-#: the arm's cycle: at the tray from 150 to 210 deg of the driver, a modified-sine turn after it
+#: the pair as made: the dwell's span (deg of the driver, centred on the tray), the modified sine's
+#: amplitude over the rest of the turn, and the driver's teeth on its sector (the centre distance
+#: follows) — the design studio's variables (``VARIABLES``), whose "make parts" writes here
+AS_MADE = (60.0, 0.35, 30)
+#: the arm's cycle as first written: at the tray from 150 to 210 deg of the driver, a modified-sine
+#: turn after it — the law of ``LAW_AT`` = (span, amplitude), which the family makes while
+#: ``AS_MADE`` holds them (its angles in fractions of pi; :func:`law_text` writes degrees)
 LAW = "150..210: dwell; 210..510: 2*pi*(phi - 7*pi/6)/(5*pi/3) - 0.35*sin(2*pi*(phi - 7*pi/6)/(5*pi/3))"
+LAW_AT = (60.0, 0.35)
 MODULE = 2.0  # mm
-SECTOR_TEETH = 30  # driver teeth on its sector (the centre distance follows)
 WIDTH = 12.0  # mm
 #: the driven's play while it stands at the tray may not exceed this, deg
 LOCKING_PLAY_DEG = 2.5
@@ -62,12 +67,12 @@ def picker(law: IntermittentLaw, teeth: int) -> IncompletePairStudy:
 
 
 def family() -> Family:
-    law = IntermittentLaw.parse(LAW)
-    study = picker(law, SECTOR_TEETH)
+    span, amplitude, teeth = AS_MADE
+    study = picker(_law(span, amplitude), int(teeth))
     return Family(
         "picking_dwell",
-        "A picking arm on incomplete non-circular gears: it stands at the tray for 60 deg of the driver "
-        f"(module {MODULE:g} mm, {SECTOR_TEETH} teeth on the driver's sector), locking arcs over the dwell",
+        f"A picking arm on incomplete non-circular gears: it stands at the tray for {span:g} deg of the driver "
+        f"(module {MODULE:g} mm, {int(teeth)} teeth on the driver's sector), locking arcs over the dwell",
         (study,),
     )
 
@@ -87,15 +92,13 @@ VARIABLES = (
     ("amplitude", 0.0, 0.8),
     ("sector_teeth", 20.0, 40.999),
 )
-#: the pair as made (``LAW``, ``SECTOR_TEETH``): where the studio opens
-AS_MADE = (60.0, 0.35, 30.0)
 #: a shortfall's unit in the cost, by the row's unit
 SHORTFALL_UNIT = {"rad": 1e-9, "": 0.05, "deg": 5.0, "1/mm": 0.01, "s": 0.05}
 
 
 def law_text(span_deg: float, amplitude: float) -> str:
     """``LAW`` with a dwell of ``span_deg`` centred on the tray and a modified sine of ``amplitude``
-    over the rest of the turn (``AS_MADE`` gives ``LAW``'s law, written with its angles in degrees)."""
+    over the rest of the turn (``LAW_AT`` gives ``LAW``'s law, written with its angles in degrees)."""
     start, end = TRAY_DEG - span_deg / 2, TRAY_DEG + span_deg / 2
     u = f"2*pi*(phi - {end!r}*pi/180)/({360.0 - span_deg!r}*pi/180)"
     return f"{start!r}..{end!r}: dwell; {end!r}..{start + 360.0!r}: {u} - {amplitude!r}*sin({u})"
@@ -105,14 +108,15 @@ _LAWS = Kept(16)
 
 
 def _law(span_deg: float, amplitude: float) -> IntermittentLaw:
-    """The law of ``law_text`` (kept); as made, ``LAW`` itself (its angles written in fractions of
-    pi differ from ``law_text``'s by round-off: the page opens on exactly the pair the family makes)."""
-    text = LAW if (span_deg, amplitude) == AS_MADE[:2] else law_text(span_deg, amplitude)
+    """The law of ``law_text`` (kept); at ``LAW_AT``, ``LAW`` itself (its angles written in fractions
+    of pi differ from ``law_text``'s by round-off: the family makes it as first written)."""
+    text = LAW if (span_deg, amplitude) == LAW_AT else law_text(span_deg, amplitude)
     return _LAWS.get(text, lambda: IntermittentLaw.parse(text))
 
 
-def entry_shock_as_made() -> float:
-    """The driven's speed jump as its first tooth meets it (ω2/ω1), ``LAW`` as made (kept)."""
+def entry_shock_of_law() -> float:
+    """The driven's speed jump as its first tooth meets it (ω2/ω1), ``LAW`` as first written (kept):
+    the bar a design's entry shock is held to."""
     return _LAWS.get(("shock", LAW), lambda: IntermittentLaw.parse(LAW).transitions()[0].speed_jump)
 
 
@@ -126,34 +130,22 @@ def design_study(x) -> IncompletePairStudy:
 
 def quick_rows(study: IncompletePairStudy):
     """The checks the pair family makes before it cuts (``pair_checks``), the entry shock against
-    the pair as made, and the time at the tray against the needles'."""
+    ``LAW``'s, and the time at the tray against the needles'."""
     pair = study.pair
     rows = pair_checks(pair, study.tool.pitch_radius, MAX_PRESSURE_DEVIATION_DEG)
     jump = pair.law.transitions()[0].speed_jump
     dwell = pair.law.dwells[0]
     at_tray = (dwell.end - dwell.start) / 360.0 * 60.0 / DRIVER_SPEED_RPM
     return rows + (
-        limit_row("entry shock: speed jump w2/w1", jump, "", entry_shock_as_made(), True, "the pair as made"),
+        limit_row("entry shock: speed jump w2/w1", jump, "", entry_shock_of_law(), True, "LAW's pair"),
         limit_row("time at the tray", at_tray, "s", NEEDLES_CLOSE_S, False, "the needles close"),
-    )
-
-
-def fitted(study: IncompletePairStudy) -> None:
-    """A TransplanterError unless every lock and sector fits at the study's size (``check_fit``)."""
-    check_fit(
-        study.pair,
-        study.tool,
-        study.design_backlash,
-        addendum=study.addendum,
-        lock_clearance=study.lock_clearance,
-        lock_depth=study.lock_depth,
     )
 
 
 def cut_rows(study: IncompletePairStudy):
     """The pair cut (seconds): its lock's locking play in all against the study's, and each
     first tooth contact after a dwell off both tips and not before the dwell's end."""
-    fitted(study)
+    study.fit()
     gears = study.gears
     rows = []
     for lock in gears.locks:
@@ -200,7 +192,7 @@ def problem() -> Problem:
 
     def cost(x):
         study = design_study(x)
-        fitted(study)
+        study.fit()
         return cost_of(quick_rows(study))
 
     return Problem(
@@ -209,6 +201,7 @@ def problem() -> Problem:
         cost,
         infeasible=1e3,
         x0=AS_MADE,
+        optimum="AS_MADE",  # make parts (the studio) and `optimise --write` record a design there
         choices=("sector_teeth",),
         describe=describe,
         view=view,

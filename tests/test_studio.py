@@ -21,7 +21,7 @@ import pytest
 from transplanter.app.studio import named_designs, studio_problem
 from transplanter.app.studio.page import rows_html
 from transplanter.app.studio.session import MAX_SAVED_BYTES, Session, unit_of, value_of
-from transplanter.core.errors import SpecError
+from transplanter.core.errors import GeometryError, SpecError
 from transplanter.design.optimise import Problem
 from transplanter.design.views import DesignView, Row
 
@@ -101,6 +101,46 @@ def test_seed_004_named_designs_are_its_front_and_optimum():
     assert problem.view is not None
 
 
+def test_seed_004_later_is_the_build_s_verdict(monkeypatch):
+    """The page's slow judgement of seed 004 says what the build would make of the design and
+    whether it would refuse it: the teeth made_design cuts, the objectives the build's
+    optimised_train study computes (a miss refuses the build). The designer's trial: φH0 = 20 deg
+    passes the search's measure (x 24.3 mm at the screen's 2.22 mm) but the build cuts 3.33 mm teeth
+    and refuses x = 19.57 mm."""
+    monkeypatch.syspath_prepend(str(PARTS))
+    import _seed004 as seed
+
+    from transplanter.families import PlanetaryStudy
+
+    x = list(seed.OPTIMUM)
+    x[8] = 20.0
+    quick = {r.name: r for r in seed.view(x).rows}
+    assert quick["x gearbox clearance above the ground"].ok
+    later = seed.view(x).later()
+    made, cut = seed.made_design(OPTIMUM=tuple(x))
+    assert made == tuple(x) and cut.module == pytest.approx(3.3264, abs=1e-4)
+    study = PlanetaryStudy(
+        "optimised_train",
+        seed.design_train(made),
+        seedling_box=seed.SEEDLING_BOX,
+        plant_spacing=seed.PLANT_SPACING,
+        planting_depth=seed.PLANTING_DEPTH,
+        site=seed.SITE,
+        module=cut.module,
+        must_meet=True,
+    )
+    built = study.objectives()["this design"]
+    assert [r.value for r in later.rows[: len(built)]] == [o.value for o in built]
+    missed = [o for o in built if not o.ok]
+    assert [o.number for o in missed] == ["x"] and missed[0].value == pytest.approx(19.57, abs=0.01)
+    assert later.notes[0].startswith("the build would refuse optimised_train") and "19.57 mm" in later.notes[0]
+    assert seed.as_built(seed.OPTIMUM).notes[0] == "the build would make it: every objective met at the design place"
+    # written where the build does not make it: said, not judged as if it were made
+    front = seed.problem(min_module=2.8)
+    with pytest.raises(GeometryError, match="the build would make OPTIMUM, not this design"):
+        front.view(seed.FRONT_280).later()
+
+
 @contextlib.contextmanager
 def _serve(script: Path | None, *extra: str):
     """``transplanter design SCRIPT --no-browser``: its URL while it runs."""
@@ -172,6 +212,15 @@ def test_the_page_shows_what_the_library_computes_for_the_design_it_is_moved_to(
         )
         frame_tip = next(c for c in want.panels[0].curves if c.name == "tip").xy
         assert np.allclose(np.array(tip).T[:-1], frame_tip, rtol=0, atol=1e-9)
+        # then the build's verdict on it (the slow judgement): said as as_built says it
+        t = time.time()
+        while time.time() - t < 60 and "later-note" not in text:
+            text = browser.execute_script("return Bokeh.documents[0].get_model_by_name('results').text")
+            time.sleep(0.2)
+        built = seed.as_built(x)
+        assert [html.unescape(s) for s in re.findall(r'class="later-note">([^<]*)<', text)] == list(built.notes)
+        later = [float(v) for v in re.findall(r'data-value="([^"]+)"', text.split("later-table")[1])]
+        assert later == [r.value for r in built.rows]
         # a value out of range: said beside its variable, the design kept
         _set(browser, "box-carrier_start_deg", "500")
         t = time.time()
@@ -418,6 +467,56 @@ def test_the_slow_judgement_runs_apart_and_is_dropped_when_its_design_goes():
     cancel = judge_later(lambda: time.sleep(30) or (), said)
     cancel()  # its design replaced: the child is killed, nothing is said
     assert not done.wait(2)
+
+
+SLOW_SCRIPT = '''
+"""A problem whose slow judgement of x takes x[0] seconds, leaves a mark beside it and says x."""
+import time
+from pathlib import Path
+
+from transplanter.design.optimise import Problem
+from transplanter.design.views import DesignView, Row
+
+
+def judged(x):
+    time.sleep(float(x[0]))
+    Path(__file__).with_name(f"judged-{float(x[1])}").write_text("")
+    return (Row("x", float(x[1]), "", "", 0.0, True),)
+
+
+def view(x):
+    return DesignView(later=lambda: judged(x))
+
+
+def problem():
+    return Problem("slow", (("wait_s", 0.0, 60.0), ("b_mm", 0.0, 1.0)), lambda v: 0.0, view=view)
+'''
+
+
+def test_a_script_s_slow_judgement_runs_in_a_forkserver_child_killed_with_its_design(tmp_path):
+    """The page's own judge: the server forks nothing; the child loads the script and judges x."""
+    import threading
+
+    from transplanter.app.studio.later import ScriptJudge
+
+    script = tmp_path / "slow.py"
+    script.write_text(SLOW_SCRIPT)
+    judge = ScriptJudge(script, {}, None)
+    got: list = []
+    done = threading.Event()
+
+    def said(kind, payload):
+        got.append((kind, payload))
+        done.set()
+
+    judge((0.0, 0.25), None, said)
+    assert done.wait(120) and got == [("rows", (Row("x", 0.25, "", "", 0.0, True),))]
+    assert (tmp_path / "judged-0.25").exists()
+    done.clear()
+    cancel = judge((2.0, 0.5), None, said)
+    time.sleep(0.5)
+    cancel()  # its design replaced: the child is killed before it judges, nothing is said
+    assert not done.wait(4) and not (tmp_path / "judged-0.5").exists() and len(got) == 1
 
 
 def test_without_a_script_a_page_lists_the_designable_ones_read_as_syntax_only(browser, tmp_path):

@@ -42,7 +42,8 @@ def arm_b_page():
 def test_arm_b_page_opens_on_the_published_arm_b(arm_b_page):
     problem, names = arm_b_page
     assert problem.view is not None and problem.x0 == (125.0, 40.0, 100.0, 85.0, -273.8, 63.3, 322.0)
-    assert named_designs(problem, names) == {"PUBLISHED_B": problem.x0}
+    assert named_designs(problem, names) == {"PUBLISHED_B": problem.x0, "MADE_B": problem.x0}
+    assert problem.design == problem.x0 and problem.optimum == "MADE_B"
     # the family's arm B is the page's at x0: the part script builds what it built
     family_arm = next(p.arm for p in names["family"]().parts if getattr(p, "name", "") == "mechanism_B")
     assert family_arm == names["arm_b"](problem.x0)
@@ -208,3 +209,43 @@ def test_an_incomplete_pair_s_curvature_and_pressure_deviation():
             assert np.allclose(pair.curvature(phi, role, m), k, rtol=1e-6), (mesh, role)
         nu = np.arctan2(np.abs(pair.r1(phi, 1, motion=m)) / m.ratio(phi), pair.r2(phi, motion=m))
         assert np.allclose(np.abs(pair.pressure_deviation(phi, m)), np.abs(nu), rtol=0, atol=1e-12)
+
+
+# -- make parts: the design written where the part script reads it, and made ----------------------
+
+
+def _written(tmp_path: Path, script: str, design_module: str, name: str, x) -> dict:
+    """The part script's namespace after ``x`` is recorded in ``name`` of a copy of ``parts/``
+    (the writer ``make parts`` and ``optimise --write`` use)."""
+    import shutil
+
+    from transplanter.families.builder.optimum import find_optimum, module_file, record_optimum
+
+    copy = tmp_path / "parts"
+    shutil.copytree(PARTS, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    problem, _ = studio_problem(copy / script, {}, None)
+    choices = tuple(v[0] in problem.choices for v in problem.variables)
+    place = find_optimum(module_file(copy / design_module), name, len(problem.variables))
+    assert record_optimum(place, x, choices) is not None
+    _, names = studio_problem(copy / script, {}, None)
+    return names
+
+
+def test_a_design_written_from_the_picker_page_is_the_pair_the_family_makes(tmp_path):
+    names = _written(tmp_path, "picking_dwell.py", "picking_dwell.py", "AS_MADE", (72.5, 0.3, 28.7))
+    assert names["AS_MADE"] == (72.5, 0.3, 28)  # a choice: its integer part, as the model uses it
+    study = names["family"]().parts[0]
+    assert study.teeth == 28
+    asked = IntermittentLaw.parse(names["law_text"](72.5, 0.3))
+    assert study.pair.law.describe() == asked.describe() == "dwell 143.75..216.25 deg, motion 216.25..503.75 deg"
+    assert study.pair.law.motions[0].law == asked.motions[0].law
+    assert "for 72.5 deg of the driver" in names["family"]().description
+
+
+def test_a_design_written_from_the_arm_b_page_is_the_arm_the_family_makes(tmp_path):
+    x = (130.0, 38.0, 104.0, 88.0, -280.0, 60.0, 318.0)
+    names = _written(tmp_path, "fourbar_seed000.py", "fourbar_seed000.py", "MADE_B", x)
+    parts = {p.name: p for p in names["family"]().parts}
+    assert parts["mechanism_B"].arm == names["arm_b"](x)
+    assert parts["mechanism_B_plates"].arm == names["arm_b"](x)
+    assert parts["mechanism_A"].arm == names["arm"]("mechanism_A")  # A and C as published

@@ -83,6 +83,7 @@ def _opening(problem, designs: dict, start: str | None) -> tuple[float, ...]:
 
 def _page_maker(args: argparse.Namespace, script: Path, settings: dict, start: str | None):
     """``make_document(doc)`` for ``script``'s page (the script loaded at its first use)."""
+    from transplanter.app.studio.later import ScriptJudge
     from transplanter.app.studio.page import build_page
 
     loaded: dict = {}
@@ -97,6 +98,7 @@ def _page_maker(args: argparse.Namespace, script: Path, settings: dict, start: s
                 designs=designs,
                 start=_opening(problem, designs, start),
                 making=(script, Path(where) if isinstance(where, str) else None, Path(args.output)),
+                judge=ScriptJudge(script, settings, args.timeout),
             )
         if doc is None:
             return
@@ -110,6 +112,7 @@ def _page_maker(args: argparse.Namespace, script: Path, settings: dict, start: s
             args.workers,
             args.scheduler,
             loaded["making"],
+            loaded["judge"],
         )
 
     return make

@@ -21,11 +21,13 @@ from transplanter.core.errors import TransplanterError
 
 __all__ = ["making_panel"]
 
-#: said beside every diff: the page's verdict is the view's, the build's is its proofs'
+#: said beside every diff: what the page judged, and what only the build proves
 CAVEAT = (
-    "<p><i>The page judged this design as its view does (for seed 004: the fouling screen's module, teeth not "
-    "cut, 720 samples); the build cuts the teeth and proves the made parts, and may refuse what the page passed "
-    "(its report says why). Writing it changes the file; undo does not.</i></p>"
+    "<p><i>The page judged this design with its view; where the view's slow judgement is the build's own "
+    "(seed 004: \u201cas the build makes it\u201d \u2014 the teeth cut, the objectives the build refuses a "
+    "miss of), it says whether the build would refuse it. The build also proves the made parts (meshing, "
+    "backlash, the machine's clearances), which the page does not: its report says why it refused. Writing "
+    "the design changes the file; undo does not.</i></p>"
 )
 #: lines of the build's output the page keeps (the last ones)
 SHOWN_LINES = 40

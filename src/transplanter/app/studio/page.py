@@ -17,6 +17,7 @@ import base64
 import html
 import itertools
 import time
+from collections.abc import Callable
 from functools import partial
 
 import numpy as np
@@ -35,8 +36,12 @@ __all__ = ["LATER_AFTER_MS", "PALETTE", "build_page", "rows_html"]
 #: first, and while a slider is dragged no child is forked for designs already gone
 LATER_AFTER_MS = 250
 
-#: the title of a slow judgement's panel until its new design's is in
-STALE = "(the design before, computing) "
+#: a slow judgement's panel is shaded so until its new design's is in (a colour, not its title: a
+#: title's change lays out its plots again in the browser, a colour only repaints)
+STALE_FILL = "#e6e6e6"
+
+#: plots placed two by two (a view with more draws the rest under the last)
+SLOTS = 8
 
 #: curve colours, in order (matplotlib's tab10: the reports' colours)
 PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
@@ -98,6 +103,28 @@ def _closed(c: Curve) -> np.ndarray:
     return np.vstack([c.xy, c.xy[:1]]) if c.closed and c.kind != "obstacle" else c.xy
 
 
+#: the page: the controls on the left, the drawing and what is judged of it on the right
+_TEMPLATE_TEXT = """{% extends base %}
+{% block contents %}
+<div style="display: flex; align-items: flex-start; gap: 8px">
+  <div>{{ embed(roots.controls) }}</div>
+  <div>
+    <div style="display: grid; grid-template-columns: auto auto; align-items: start">
+      {% for i in range(slots) %}<div>{{ embed(roots["slot%d" % i]) }}</div>{% endfor %}
+    </div>
+    {{ embed(roots.drawing) }}{{ embed(roots.judged) }}
+  </div>
+</div>
+{% endblock %}
+"""
+
+
+def _template():
+    from jinja2 import Template
+
+    return Template(_TEMPLATE_TEXT.replace("range(slots)", f"range({SLOTS})"))
+
+
 def _same(old: dict, new: dict) -> bool:
     """Whether a source's columns hold ``new`` already (lists of arrays compared elementwise)."""
     if set(old) != set(new):
@@ -121,11 +148,14 @@ def build_page(
     workers: int = 1,
     scheduler: str | None = None,
     making: tuple | None = None,
+    judge: Callable | None = None,
 ) -> None:
     """Fill Bokeh document ``doc`` with the studio for ``problem``, opening on design ``start``;
     ``designs``: the part script's named designs (a menu); ``workers``/``scheduler``: where its
     searches evaluate designs (:mod:`.search`); ``making``: (part script, the file ``problem()``
-    is in, the build's output folder) for "make parts" (:mod:`.making`)."""
+    is in, the build's output folder) for "make parts" (:mod:`.making`); ``judge(x, later, done)``:
+    where a design's slow judgement runs (:class:`.later.ScriptJudge`; by default
+    :func:`.later.judge_later`, a fork of the server)."""
     from bokeh.layouts import column, row
     from bokeh.models import (
         Button,
@@ -141,6 +171,7 @@ def build_page(
     from bokeh.plotting import figure
 
     session = Session(problem, start)
+    judge = judge or (lambda x, later, done: judge_later(later, done))
     names = session.names
     bounds = {n: (lo, hi) for n, lo, hi in problem.variables}
     sliders, boxes, errors = {}, {}, {}
@@ -183,7 +214,9 @@ def build_page(
 
     figures: list = []
     sources: dict = {}
-    plots = column(Div(text="<i>computing the first design…</i>"), name="plots")  # its figures replace it
+    # a root per plot: a plot laid out again (a new title, its first curves) lays out only itself
+    slots = [column(name=f"slot{i}") for i in range(SLOTS)]
+    slots[0].children = [Div(text="<i>computing the first design…</i>")]  # the first figure replaces it
     serial = itertools.count(1)
     state: dict = {
         "pending": None,
@@ -214,8 +247,8 @@ def build_page(
             if pose is not None and pose.panel == len(figures) - 1:
                 f.line("x", "y", source=pose_src, color="black", line_width=2)
                 f.scatter("x", "y", source=pose_src, color="black", size=5)
-            pairs = [figures[i : i + 2] for i in range(0, len(figures), 2)]
-            plots.children = [row(*fs) for fs in pairs]
+            slot = slots[min(len(figures), len(slots)) - 1]  # past the last slot, under it
+            slot.children = [f] if len(figures) <= len(slots) else [*slot.children, f]
 
     def draw_panels(panels, first: int, pinned) -> None:
         """``panels`` into the figures from index ``first``; ``pinned``: design B's (same order)."""
@@ -223,6 +256,7 @@ def build_page(
             i = first + k
             if figures[i].title.text != p.title:
                 figures[i].title.text = p.title
+            figures[i].background_fill_color = "#ffffff"
             for kind in ("path", "obstacle", "mark"):
                 update(i, kind, [(j, c) for j, c in enumerate(p.curves) if c.kind == kind])
             b = pinned[k].curves if k < len(pinned) else ()
@@ -288,9 +322,8 @@ def build_page(
         state["view"] = view
         ensure_figures(view.panels, view.pose)
         draw_panels(view.panels, 0, state["pinned"].panels if state["pinned"] else ())
-        for i in range(len(view.panels), len(figures)):  # the slow judgement's panels: the design before's
-            if not figures[i].title.text.startswith(STALE):  # said in the title (redrawing them empty
-                figures[i].title.text = STALE + figures[i].title.text  # would cost the browser a repaint)
+        for i in range(len(view.panels), len(figures)):  # the slow judgement's panels: the design before's,
+            figures[i].background_fill_color = STALE_FILL  # shaded (drawn empty, they would jump)
         if view.pose is not None:
             n, m = view.pose.lines.shape[:2]
             flat = view.pose.lines.reshape(-1, 2).astype(np.float32)  # drawn only: 0.01 µm at 1 m
@@ -315,19 +348,22 @@ def build_page(
         waiting = f"<p><i>{html.escape(view.later_title)}: computing…</i></p>" if view.later else ""
         results.text = state["quick"] + waiting
         if view.later is not None:  # once this design's messages are out, unless another follows
-            doc.add_timeout_callback(partial(start_later, state["shown"], view), LATER_AFTER_MS)
+            doc.add_timeout_callback(partial(start_later, state["shown"], view, computed.x), LATER_AFTER_MS)
 
-    def start_later(number: int, view) -> None:
+    def start_later(number: int, view, x) -> None:
         if number == state["shown"]:
             state["cancel"]()
-            state["cancel"] = judge_later(view.later, partial(later_done, number, view.later_title))
+            state["cancel"] = judge(x, view.later, partial(later_done, number, view.later_title))
 
     def later_done(number: int, title: str, kind: str, payload) -> None:
-        if kind == "view":  # panels drawn after the quick view's, and rows
-            doc.add_next_tick_callback(partial(show_later_panels, number, payload.panels))
-            kind, payload = "rows", payload.rows
+        notes: tuple[str, ...] = ()
+        if kind == "view":  # panels drawn after the quick view's, rows and notes
+            if payload.panels:
+                doc.add_next_tick_callback(partial(show_later_panels, number, payload.panels))
+            kind, payload, notes = "rows", payload.rows, payload.notes
         if kind == "rows":
-            text = f"<p><b>{html.escape(title)}</b></p>" + rows_html(tuple(payload), "later-table")
+            said = "".join(f'<br><span class="later-note">{html.escape(s)}</span>' for s in notes)
+            text = f"<p><b>{html.escape(title)}</b>{said}</p>" + rows_html(tuple(payload), "later-table")
         elif kind == "error":
             text = f'<b style="color:#b00020">{html.escape(str(payload))}</b>'
         else:
@@ -459,8 +495,14 @@ def build_page(
     controls.append(search_panel(doc, session, adopt_design, workers, scheduler))
     if making is not None:
         controls.append(making_panel(doc, session, *making))
-    right = column(plots, row(scrub, play), results)
-    doc.add_root(row(column(*controls), right))
+    # roots laid out each on its own by the browser (a Div's new text or a plot's new title lays out
+    # its root again: in one root, every change would measure every plot's axes once more)
+    doc.add_root(column(*controls, name="controls"))
+    for slot in slots:
+        doc.add_root(slot)
+    doc.add_root(row(scrub, play, name="drawing"))
+    doc.add_root(column(results, name="judged"))
+    doc.template = _template()
     doc.title = f"transplanter design: {title}"
     doc.on_session_destroyed(lambda ctx: state["cancel"]())
     request(session.x)

@@ -45,7 +45,7 @@ from transplanter.families.pairs.incomplete_proof import ROLES, IncompleteProof
 from transplanter.geometry.backlash import design_backlash
 from transplanter.geometry.cutter import Cutter, ShaperCutter
 from transplanter.geometry.dwell_entry import entry_contacts
-from transplanter.geometry.incomplete import IncompleteGears, cut_incomplete
+from transplanter.geometry.incomplete import IncompleteGears, check_fit, cut_incomplete
 from transplanter.geometry.pair_gate import per_gear
 from transplanter.geometry.pitch.intermittent import IncompletePair, IntermittentLaw
 from transplanter.geometry.toothed_sectors import sector_pitches
@@ -174,16 +174,21 @@ class IncompletePairStudy(StudyDefaults):
             return check_number("backlash", self.backlash, 0.0, self.module, low_open=True, high_open=True, unit="mm")
         return design_backlash(self.module, self.pair.centre_distance, self.tool.pressure_angle)
 
+    def _cut_arguments(self) -> tuple[tuple, dict]:
+        """The study's pair, cutter, backlash and sizes as ``cut_incomplete`` and ``check_fit`` take them."""
+        sizes = {"addendum": self.addendum, "lock_clearance": self.lock_clearance, "lock_depth": self.lock_depth}
+        return (self.pair, self.tool, self.design_backlash), sizes
+
     @cached_property
     def gears(self) -> IncompleteGears:
-        return cut_incomplete(
-            self.pair,
-            self.tool,
-            self.design_backlash,
-            addendum=self.addendum,
-            lock_clearance=self.lock_clearance,
-            lock_depth=self.lock_depth,
-        )
+        args, sizes = self._cut_arguments()
+        return cut_incomplete(*args, **sizes)
+
+    def fit(self) -> None:
+        """A TransplanterError unless every lock and sector fits at the study's size: what
+        :attr:`gears` finds before it cuts, without cutting (``incomplete.check_fit``)."""
+        args, sizes = self._cut_arguments()
+        check_fit(*args, **sizes)
 
     # -- the proof (incomplete_proof) -----------------------------------------------------------
 
