@@ -88,9 +88,9 @@ def _browser():
 
 
 def _library_ms(script: str, variable: str, step: float) -> list[float]:
-    from transplanter.app.studio import studio_problem
+    from transplanter.app.optimise import script_problem
 
-    problem, _ = studio_problem(ROOT / script, {}, None)
+    problem, _ = script_problem(ROOT / script, {}, None)
     names = [n for n, _, _ in problem.variables]
     x = np.array(problem.design or problem.x0, dtype=float)
     k = names.index(variable)

@@ -44,19 +44,17 @@ from transplanter.machine.tray import PotTray, pot_place
 CIRCLE_X = 70.0  # mm, the circle point's x of mechanism ③
 ARM_LENGTH = 125.0  # mm, link 3
 CENTRE_DISTANCES = (45.0, 45.0)  # mm, stages 2-3 and 3-5
-#: the split I^λ of the two-stage ratio with the largest convexity index (both stages 0.642)
+#: the split I^λ of OPTIMUM's two-stage ratio with the largest convexity index (both stages 0.642):
+#: the part script cuts every design at it (:func:`cut_split`)
 EXPONENT = 0.492225
 ROLLER = 8.0  # mm, the follower's roller radius
 #: intermediate points: offsets of β2 and β3 from the straight line between the poses at the
 #: middle of each gap (fractions of the gap's width, rad per rad), and the follower (pivot
-#: distance, arm, base radius, mm), as found by problem() with seed 2
-OPTIMUM = (
-    (-0.0344, 0.0694, 0.0219, -0.0212),
-    (0.0176, -0.0013, -0.0532, 0.0364),
-    (152.21, 54.45, 103.67),
-)
-#: OPTIMUM as one design vector, problem()'s variables in order (the studio's "start from" menu)
-OPTIMUM_X = (*OPTIMUM[0], *OPTIMUM[1], *OPTIMUM[2])
+#: distance, arm, base radius, mm), as found by problem() with seed 2 — problem()'s variables in
+#: order (the studio's "make parts" and ``transplanter optimise --write`` record a design here)
+OPTIMUM_X = (-0.0344, 0.0694, 0.0219, -0.0212, 0.0176, -0.0013, -0.0532, 0.0364, 152.21, 54.45, 103.67)
+#: OPTIMUM_X as (β2's offsets, β3's offsets, the follower): what the part script reads
+OPTIMUM = (OPTIMUM_X[0:4], OPTIMUM_X[4:8], OPTIMUM_X[8:11])
 #: the best plain design (no intermediate points, follower found alone) starts the search
 START = (0.0,) * 8 + (130.7, 30.05, 99.9)
 
@@ -164,6 +162,19 @@ def stages(ch: OpenChain3R) -> RatioDistribution:
     return ch.distribute(CENTRE_DISTANCES, exponent=SEARCH_EXPONENT, samples=SAMPLES)
 
 
+def cut_split(ch: OpenChain3R) -> RatioDistribution:
+    """The two gear stages the part script cuts for chain ``ch``: the ratio split at ``EXPONENT``
+    (the page's slow judgement and the build call this one function).
+
+    ``EXPONENT`` is a design constant, like the centre distances: the split of OPTIMUM's largest
+    convexity index. A design written from the studio is cut at it too and judged there (both
+    stages' p against ``MIN_CONVEXITY``), not searched again: the index is not unimodal in λ (a
+    design 0.004 off OPTIMUM in its first offset reads p = 0.557, 0.595, 0.575 and 0.599 at λ =
+    0.49, 0.492225, 0.495 and 0.5, where a bounded search over [0.1, 0.9] stops at 0.506 with
+    0.587), so "the best split" would be a search's accident, not a rule."""
+    return ch.distribute(CENTRE_DISTANCES, exponent=EXPONENT)
+
+
 def swing_cam(motion, f: OscillatingRollerFollower, n: int = SAMPLES) -> CamProfile:
     """The swing cam giving ``f`` the ``motion`` (:func:`swing`), at the search's samples unless ``n``."""
     return disc_cam(motion, f, n=n, max_pressure_angle=PRESSURE_CEILING)
@@ -196,7 +207,14 @@ def problem() -> Problem:
     bounds = [(-0.1, 0.1)] * 8 + [(100.0, 250.0), (25.0, 80.0), (60.0, 120.0)]
     variables = tuple(zip(names + ["pivot_mm", "arm_mm", "base_mm"], *zip(*bounds, strict=True), strict=True))
     return Problem(
-        "seed002 swing cam and gear stages", variables, cost, infeasible=2000.0, x0=START, view=view, design=OPTIMUM_X
+        "seed002 swing cam and gear stages",
+        variables,
+        cost,
+        infeasible=2000.0,
+        x0=START,
+        view=view,
+        design=OPTIMUM_X,
+        optimum="OPTIMUM_X",
     )
 
 
@@ -372,7 +390,8 @@ def _curves(offsets: tuple[float, ...]) -> Curves:
         )
         + " (the build judges the claw's body against them: seed 002 requirement 2, a finding)",
         f"gear stages split at λ = {SEARCH_EXPONENT:g} over {SAMPLES} samples, as the search scores them; "
-        f"the part script cuts λ = {EXPONENT:g} over 1440 (both drawn and judged below, once computed)",
+        f"the part script cuts them at λ = {EXPONENT:g} over 1440 (cut_split; both drawn and judged below, once "
+        "computed)",
     )
     return Curves(ch, swing(ch), rel, frame, (frame_panel, angles_panel), rows, pose, notes)
 
@@ -481,11 +500,11 @@ def view(x) -> DesignView:
 
     def later() -> DesignView:
         panels, searched = stage_view(ch)
-        cut = ch.distribute(CENTRE_DISTANCES, exponent=EXPONENT)
+        cut = cut_split(ch)
         made = math.degrees(swing_cam(motion, f, n=CAM_SAMPLES).max_pressure_angle)
         out = tuple(
             Row(
-                f"{what} as cut (λ = {EXPONENT:g}): convexity index p",
+                f"{what} as cut (λ = {cut.exponent:.6g}): convexity index p",
                 p,
                 "",
                 f">= {MIN_CONVEXITY:g}",

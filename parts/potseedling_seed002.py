@@ -15,14 +15,13 @@ import math
 from _seed002 import (
     CAM_PRESSURE_LIMIT_DEG,
     CAM_SAMPLES,
-    CENTRE_DISTANCES,
-    EXPONENT,
     OPTIMUM,
     PLANTING_DEPTH,
     POSE_TOLERANCE,
     POT_DEPTH,
     TRAY,
     chain,
+    cut_split,
     follower,
     problem,  # noqa: F401 (`transplanter design` and `optimise` read problem() from the part script)
     swing,
@@ -113,7 +112,7 @@ GEAR_STEEL, PLATE_STEEL, CLAW_STEEL = "C45", "S235JR", "X5CrNi18-10"
 
 def family() -> Family:
     mechanism = chain(*OPTIMUM[:2])
-    stages = mechanism.distribute(CENTRE_DISTANCES, exponent=EXPONENT)
+    stages = cut_split(mechanism)  # at EXPONENT, as the studio's page judges it
     gears_23, sizing_23 = stages.stage23.sized(module=MODULE)
     gears_35, sizing_35 = stages.stage35.sized(module=MODULE)
     gear = Making(width=GEAR_WIDTH, features=Features(bore=GEAR_BORE), material=GEAR_STEEL)

@@ -450,16 +450,21 @@ def test_a_part_script_imports_the_design_module_beside_it(tmp_path, capsys, mon
     assert "changed since the build" not in capsys.readouterr().out
     design.write_text(design.read_text().replace("SIDE = 4.0", "SIDE = 5.0"))
     assert load_family(parts / "plates.py").parts[0].side == 5.0
-    # a copy imported beforehand (a notebook, pytest's doctest collection) is not served instead
-    stale = type(sys)("_plate")
-    stale.__file__, stale.SIDE = str(design), 4.0
-    sys.modules["_plate"] = stale
-    try:
-        fam = load_family(parts / "plates.py")
-        assert fam.parts[0].side == 5.0 and fam.modules == (str(parts / "_plate.py"),)
-        assert sys.modules["_plate"] is stale  # put back as it was
-    finally:
-        del sys.modules["_plate"]
+    # a copy imported beforehand (a notebook, pytest's doctest collection) is not served instead,
+    # nor is a namesake from another folder (another copy of parts/, imported first)
+    other = tmp_path / "elsewhere" / "_plate.py"
+    other.parent.mkdir()
+    other.write_text(design.read_text().replace("SIDE = 5.0", "SIDE = 7.0"))
+    for where, side in ((design, 4.0), (other, 7.0)):
+        held = type(sys)("_plate")
+        held.__file__, held.SIDE = str(where), side
+        sys.modules["_plate"] = held
+        try:
+            fam = load_family(parts / "plates.py")
+            assert fam.parts[0].side == 5.0 and fam.modules == (str(parts / "_plate.py"),)
+            assert sys.modules["_plate"] is held  # put back as it was
+        finally:
+            del sys.modules["_plate"]
     assert cli.main(["check", "--run-script", str(out / "plates")]) == 2
     assert "the module '_plate.py' beside it is missing or is not the one the build imported" in (
         capsys.readouterr().err

@@ -18,7 +18,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from transplanter.app.studio import named_designs, studio_problem
+from transplanter.app.optimise import script_problem
+from transplanter.app.studio import named_designs
 from transplanter.app.studio.page import rows_html
 from transplanter.app.studio.session import MAX_SAVED_BYTES, Session, unit_of, value_of
 from transplanter.core.errors import GeometryError, SpecError
@@ -95,7 +96,7 @@ def test_the_table_escapes_names_and_colours_each_row():
 
 
 def test_seed_004_named_designs_are_its_front_and_optimum():
-    problem, names = studio_problem(PARTS / "planetary_seed004.py", {}, None)
+    problem, names = script_problem(PARTS / "planetary_seed004.py", {}, None)
     designs = named_designs(problem, names)
     assert set(designs) == {"OPTIMUM", "FRONT_250", "FRONT_280", "FRONT_310"}
     assert problem.view is not None
@@ -387,6 +388,16 @@ def test_a_pinned_design_is_drawn_beside_and_its_objectives_differenced(browser,
             "const d = Bokeh.documents[0].get_model_by_name('curves-0-pinned').data;"
             "return [d.label_pinned, Math.max(...Array.from(d.xs[0]))];"
         )
+        # "save design": the server's Session.saved() is what the browser downloads (one writer)
+        browser.execute_script(_CLICK, "save design")
+        t, saved = time.time(), None
+        while time.time() - t < 30 and not saved:
+            saved = browser.execute_script("return Bokeh.documents[0].get_model_by_name('save').tags")
+            time.sleep(0.1)
+    ns: dict = {}
+    exec(compile(USER_SCRIPT, str(script), "exec"), ns)
+    assert saved[0] == 1 and Session.load(ns["problem"](), saved[1]).x == (2.0, 4.0)
+    assert json.loads(saved[1])["design"] == {"a_mm": 2.0, "b_mm": 4.0}
     assert pinned[0] == ["B: ellipse"] and math.isclose(pinned[1], 4.0)
     row = re.search(r'data-name="area".*?</tr>', text).group(0)
     assert "this - B" in text and f"{np.pi * 2 * 4 - np.pi * 16:+.3g}" in row
@@ -433,7 +444,7 @@ def test_every_page_problem_still_ships_to_a_search_worker(script):
     cloudpickle: a view's cache (``views.Kept``) must not stop it, and travels empty."""
     import cloudpickle
 
-    problem, _ = studio_problem(PARTS / script, {}, None)
+    problem, _ = script_problem(PARTS / script, {}, None)
     first = problem.design or problem.x0
     problem.view(np.array(first, dtype=float))  # its caches filled
     shipped = cloudpickle.loads(cloudpickle.dumps(problem))

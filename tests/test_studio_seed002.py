@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter.app.studio import named_designs, studio_problem
+from transplanter.app.optimise import script_problem
+from transplanter.app.studio import named_designs
 from transplanter.app.studio.session import Session
 from transplanter.core.errors import GeometryError, TransplanterError
 from transplanter.design.linkage.open_chain import OpenChain3R
@@ -222,7 +223,7 @@ def test_a_design_short_of_the_search_floors_fails_its_rows(seed):
 
 
 def test_the_part_script_opens_the_page_with_the_optimum_offered(seed):
-    problem, names = studio_problem(PARTS / "potseedling_seed002.py", {}, None)
+    problem, names = script_problem(PARTS / "potseedling_seed002.py", {}, None)
     assert problem.view is not None
     designs = named_designs(problem, names)
     assert designs["OPTIMUM_X"] == tuple(seed.OPTIMUM_X) and "START" in designs

@@ -17,15 +17,7 @@ from pathlib import Path
 
 from transplanter.core.errors import SpecError, TransplanterError
 
-__all__ = ["designable", "named_designs", "run", "studio_problem"]
-
-
-def studio_problem(script: str | Path, settings: dict[str, float], timeout: float | None):
-    """(problem, the names around ``problem()``) of a part script: its ``problem(**settings)``
-    (:func:`transplanter.app.optimise.script_problem`, as ``transplanter optimise`` loads it)."""
-    from transplanter.app.optimise import script_problem
-
-    return script_problem(Path(script), settings, timeout)
+__all__ = ["designable", "named_designs", "run"]
 
 
 def named_designs(problem, names: dict) -> dict[str, tuple[float, ...]]:
@@ -83,6 +75,7 @@ def _opening(problem, designs: dict, start: str | None) -> tuple[float, ...]:
 
 def _page_maker(args: argparse.Namespace, script: Path, settings: dict, start: str | None):
     """``make_document(doc)`` for ``script``'s page (the script loaded at its first use)."""
+    from transplanter.app.optimise import script_problem
     from transplanter.app.studio.later import ScriptJudge
     from transplanter.app.studio.page import build_page
 
@@ -90,7 +83,7 @@ def _page_maker(args: argparse.Namespace, script: Path, settings: dict, start: s
 
     def make(doc) -> None:
         if not loaded:
-            problem, names = studio_problem(script, settings, args.timeout)
+            problem, names = script_problem(script, settings, args.timeout)
             designs = named_designs(problem, names)
             where = names.get("__file__")
             loaded.update(

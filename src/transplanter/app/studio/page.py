@@ -20,53 +20,25 @@ import time
 from collections.abc import Callable
 from functools import partial
 
-import numpy as np
-
 from transplanter.app.studio.later import judge_later
 from transplanter.app.studio.making import making_panel
+from transplanter.app.studio.plots import SLOTS, Drawing
 from transplanter.app.studio.search import search_panel
-from transplanter.app.studio.session import FORMAT, Computed, Session
+from transplanter.app.studio.session import Computed, Session
 from transplanter.core.errors import TransplanterError
-from transplanter.design.views import Curve, Row
+from transplanter.design.views import Row
 
-__all__ = ["LATER_AFTER_MS", "PALETTE", "build_page", "rows_html"]
+__all__ = ["LATER_AFTER_MS", "build_page", "rows_html"]
 
 #: the slow judgement (:mod:`.later`, a forked child) starts this long after its design is drawn
 #: (ms), and only if no other design has been asked for since: the drawing's messages go out
 #: first, and while a slider is dragged no child is forked for designs already gone
 LATER_AFTER_MS = 250
 
-#: a slow judgement's panel is shaded so until its new design's is in (a colour, not its title: a
-#: title's change lays out its plots again in the browser, a colour only repaints)
-STALE_FILL = "#e6e6e6"
-
-#: plots placed two by two (a view with more draws the rest under the last)
-SLOTS = 8
-
-#: curve colours, in order (matplotlib's tab10: the reports' colours)
-PALETTE = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f")
-
-_POSE_JS = """
-const X = poses.data.x, Y = poses.data.y;
-const n = Math.round(360 / scrub.step), m = X.length / n;
-if (!X.length || m != Math.floor(m)) { return; }
-const k = Math.round(scrub.value / scrub.step) % n;
-pose.data = {x: Array.from(X.slice(k * m, (k + 1) * m)), y: Array.from(Y.slice(k * m, (k + 1) * m))};
-"""
-
-_PLAY_JS = """
-if (toggle.active) {
-  window._studio_play = setInterval(() => {
-    scrub.value = (scrub.value + (toggle.tags[0] || 1) * scrub.step * 2 + 360) % 360;
-  }, 40);
-} else { clearInterval(window._studio_play); }
-"""
-
+#: "save design": the server's ``Session.saved()`` (the one writer of the format) arrives in the
+#: button's tags (with a count, so saving the same design twice downloads it twice) and is downloaded
 _SAVE_JS = """
-const design = {};
-for (const s of sliders) { design[s.name.slice(7)] = s.value; }
-const saved = {format: format[0], version: format[1], problem: problem, design: design};
-const blob = new Blob([JSON.stringify(saved, null, 1)], {type: 'application/json'});
+const blob = new Blob([save.tags[1]], {type: 'application/json'});
 const a = document.createElement('a');
 a.href = URL.createObjectURL(blob); a.download = 'design.json'; a.click();
 """
@@ -99,10 +71,6 @@ def rows_html(rows: tuple[Row, ...], name: str, against: tuple[Row, ...] = ()) -
     return "".join(out)
 
 
-def _closed(c: Curve) -> np.ndarray:
-    return np.vstack([c.xy, c.xy[:1]]) if c.closed and c.kind != "obstacle" else c.xy
-
-
 #: the page: the controls on the left, the drawing and what is judged of it on the right
 _TEMPLATE_TEXT = """{% extends base %}
 {% block contents %}
@@ -125,20 +93,6 @@ def _template():
     return Template(_TEMPLATE_TEXT.replace("range(slots)", f"range({SLOTS})"))
 
 
-def _same(old: dict, new: dict) -> bool:
-    """Whether a source's columns hold ``new`` already (lists of arrays compared elementwise)."""
-    if set(old) != set(new):
-        return False
-    for name, column in new.items():
-        held = old[name]
-        if len(held) != len(column):
-            return False
-        for a, b in zip(held, column, strict=True):
-            if not np.array_equal(np.asarray(a), np.asarray(b)):
-                return False
-    return True
-
-
 def build_page(
     doc,
     problem,
@@ -159,16 +113,13 @@ def build_page(
     from bokeh.layouts import column, row
     from bokeh.models import (
         Button,
-        ColumnDataSource,
         CustomJS,
         Div,
         FileInput,
         Select,
         Slider,
         TextInput,
-        Toggle,
     )
-    from bokeh.plotting import figure
 
     session = Session(problem, start)
     judge = judge or (lambda x, later, done: judge_later(later, done))
@@ -200,23 +151,9 @@ def build_page(
     menu = Select(
         title="start from", options=["(this design)", *designs], value="(this design)", name="designs", width=200
     )
-    scrub = Slider(start=0.0, end=359.5, value=0.0, step=0.5, title="carrier angle (deg)", name="scrub", width=400)
-    play = Toggle(label="play", name="play", width=70)
-    pose_src = ColumnDataSource({"x": [], "y": []}, name="pose")
-    poses_src = ColumnDataSource({"x": [], "y": []}, name="poses")
-    scrub.js_on_change("value", CustomJS(args={"poses": poses_src, "pose": pose_src, "scrub": scrub}, code=_POSE_JS))
-    play.js_on_change("active", CustomJS(args={"toggle": play, "scrub": scrub}, code=_PLAY_JS))
-    save.js_on_click(
-        CustomJS(
-            args={"sliders": list(sliders.values()), "problem": problem.name, "format": list(FORMAT)}, code=_SAVE_JS
-        )
-    )
+    save.js_on_change("tags", CustomJS(args={"save": save}, code=_SAVE_JS))
 
-    figures: list = []
-    sources: dict = {}
-    # a root per plot: a plot laid out again (a new title, its first curves) lays out only itself
-    slots = [column(name=f"slot{i}") for i in range(SLOTS)]
-    slots[0].children = [Div(text="<i>computing the first design…</i>")]  # the first figure replaces it
+    drawing = Drawing()
     serial = itertools.count(1)
     state: dict = {
         "pending": None,
@@ -229,88 +166,6 @@ def build_page(
         "pinned_later": (),
     }
 
-    def ensure_figures(panels, pose) -> None:
-        while len(figures) < len(panels):
-            p = panels[len(figures)]
-            f = figure(
-                title=p.title,
-                width=450,
-                height=360,
-                x_axis_label=p.x_label,
-                y_axis_label=p.y_label,
-                match_aspect=p.equal,
-                name=f"panel-{len(figures)}",
-                tools="pan,wheel_zoom,box_zoom,reset,save",
-            )
-            f.toolbar.logo = None
-            figures.append(f)
-            if pose is not None and pose.panel == len(figures) - 1:
-                f.line("x", "y", source=pose_src, color="black", line_width=2)
-                f.scatter("x", "y", source=pose_src, color="black", size=5)
-            slot = slots[min(len(figures), len(slots)) - 1]  # past the last slot, under it
-            slot.children = [f] if len(figures) <= len(slots) else [*slot.children, f]
-
-    def draw_panels(panels, first: int, pinned) -> None:
-        """``panels`` into the figures from index ``first``; ``pinned``: design B's (same order)."""
-        for k, p in enumerate(panels):
-            i = first + k
-            if figures[i].title.text != p.title:
-                figures[i].title.text = p.title
-            figures[i].background_fill_color = "#ffffff"
-            for kind in ("path", "obstacle", "mark"):
-                update(i, kind, [(j, c) for j, c in enumerate(p.curves) if c.kind == kind])
-            b = pinned[k].curves if k < len(pinned) else ()
-            update(i, "pinned", [(j, c) for j, c in enumerate(b) if c.kind == "path"])
-
-    def update(i: int, kind: str, curves) -> None:
-        """One source per panel and kind of curve (a message per panel), left alone if nothing moved;
-        its labels in a column of its own (a legend merges the items of one column name)."""
-        label = f"label_{kind}"
-        if kind == "pinned":  # design B's paths, dashed
-            data = {
-                "xs": [_closed(c)[:, 0] for _, c in curves],
-                "ys": [_closed(c)[:, 1] for _, c in curves],
-                label: [f"B: {c.name}" for _, c in curves],
-                "color": ["#555555" for _ in curves],
-            }
-        elif kind == "mark":
-            pts = [(j, c.name, xy) for j, c in curves for xy in c.xy]
-            data = {
-                "x": [xy[0] for _, _, xy in pts],
-                "y": [xy[1] for _, _, xy in pts],
-                label: [n for _, n, _ in pts],
-                "color": [PALETTE[j % len(PALETTE)] for j, _, _ in pts],
-            }
-        else:
-            data = {
-                "xs": [_closed(c)[:, 0] for _, c in curves],
-                "ys": [_closed(c)[:, 1] for _, c in curves],
-                label: [c.name for _, c in curves],
-                "color": [PALETTE[j % len(PALETTE)] for j, _ in curves],
-            }
-        key = (i, kind)
-        if key in sources:
-            if not _same(sources[key].data, data):
-                sources[key].data = data
-            return
-        if not curves:
-            return
-        src = sources[key] = ColumnDataSource(data, name=f"curves-{i}-{kind}")
-        f = figures[i]
-        if kind == "obstacle":
-            f.patches(
-                "xs", "ys", source=src, fill_color="#999999", fill_alpha=0.25, line_color="#777777", legend_field=label
-            )
-        elif kind == "mark":
-            f.scatter("x", "y", source=src, color="color", size=8, legend_field=label)
-        elif kind == "pinned":
-            f.multi_line("xs", "ys", source=src, color="color", line_dash="dashed", line_width=1.2, legend_field=label)
-        else:
-            f.multi_line("xs", "ys", source=src, color="color", line_width=1.6, legend_field=label)
-        f.legend.location = "top_left"
-        f.legend.label_text_font_size = "10px"
-        f.legend.click_policy = "hide"
-
     def draw(computed: Computed) -> None:
         view = computed.view
         if view is None:
@@ -320,22 +175,11 @@ def build_page(
             )
             return
         state["view"] = view
-        ensure_figures(view.panels, view.pose)
-        draw_panels(view.panels, 0, state["pinned"].panels if state["pinned"] else ())
-        for i in range(len(view.panels), len(figures)):  # the slow judgement's panels: the design before's,
-            figures[i].background_fill_color = STALE_FILL  # shaded (drawn empty, they would jump)
+        drawing.ensure(view.panels, view.pose)
+        drawing.draw(view.panels, 0, state["pinned"].panels if state["pinned"] else ())
+        drawing.shade_from(len(view.panels))  # the slow judgement's panels: the design before's
         if view.pose is not None:
-            n, m = view.pose.lines.shape[:2]
-            flat = view.pose.lines.reshape(-1, 2).astype(np.float32)  # drawn only: 0.01 µm at 1 m
-            poses_src.data = {"x": flat[:, 0], "y": flat[:, 1]}
-            if scrub.step != 360.0 / n:
-                scrub.step = 360.0 / n
-            i = int(round(scrub.value / 360.0 * n)) % n
-            pose_src.data = {"x": view.pose.lines[i, :, 0], "y": view.pose.lines[i, :, 1]}
-            if play.tags != [view.pose.sense]:
-                play.tags = [view.pose.sense]
-            if scrub.title != view.pose.label:
-                scrub.title = view.pose.label
+            drawing.pose(view.pose)
         met = sum(r.ok for r in view.rows)
         said = (
             f'<p data-serial="{state["shown"]}"><b>{met} of {len(view.rows)} objectives met</b>; '
@@ -374,9 +218,9 @@ def build_page(
     def show_later_panels(number: int, panels) -> None:
         if number == state["shown"] and state["view"] is not None:
             first = len(state["view"].panels)
-            ensure_figures((*state["view"].panels, *panels), None)
+            drawing.ensure((*state["view"].panels, *panels), None)
             pinned = state["pinned_later"] if state["pinned"] else ()
-            draw_panels(panels, first, pinned)
+            drawing.draw(panels, first, pinned)
             state["later_panels"] = panels
 
     def show_later(number: int, text: str) -> None:
@@ -448,6 +292,9 @@ def build_page(
         show_design(step())
         syncing["on"] = False
 
+    def on_save() -> None:  # to the browser, which downloads it (_SAVE_JS)
+        save.tags = [save.tags[0] + 1 if save.tags else 1, session.saved()]
+
     def on_pin() -> None:  # the design on the page becomes B (unpin: none)
         state["pinned"] = state["view"] if state["pinned"] is None else None
         state["pinned_later"] = state["later_panels"]
@@ -482,6 +329,7 @@ def build_page(
     for n in names:
         sliders[n].on_change("value", partial(on_slider, n))
         boxes[n].on_change("value", partial(on_box, n))
+    save.on_click(on_save)
     undo.on_click(lambda: on_history(session.undo))
     pin.on_click(on_pin)
     redo.on_click(lambda: on_history(session.redo))
@@ -498,9 +346,9 @@ def build_page(
     # roots laid out each on its own by the browser (a Div's new text or a plot's new title lays out
     # its root again: in one root, every change would measure every plot's axes once more)
     doc.add_root(column(*controls, name="controls"))
-    for slot in slots:
+    for slot in drawing.roots:
         doc.add_root(slot)
-    doc.add_root(row(scrub, play, name="drawing"))
+    doc.add_root(row(drawing.scrub, drawing.play, name="drawing"))
     doc.add_root(column(results, name="judged"))
     doc.template = _template()
     doc.title = f"transplanter design: {title}"

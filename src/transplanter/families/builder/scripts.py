@@ -79,12 +79,29 @@ class Family:
             seen.add(p.name)
 
 
+def _namesakes(files: set[str]) -> dict:
+    """The imported top-level modules named as a file in ``files`` but read from elsewhere — a
+    design module of another copy of ``parts/`` (``_seed002`` imported from the project while a
+    copy's script asks for its own) — outside the interpreter's own library and site-packages
+    (a ``numpy.py`` beside a script is not taken for numpy's namesake here)."""
+    installed = tuple(os.path.realpath(p) + os.sep for p in {sys.prefix, sys.base_prefix, sys.exec_prefix})
+    out = {}
+    for name, module in list(sys.modules.items()):
+        path = getattr(module, "__file__", None)
+        if "." in name or not path or os.path.basename(path) != f"{name}.py" or f"{name}.py" not in files:
+            continue
+        if not os.path.realpath(path).startswith(installed):
+            out[name] = module
+    return out
+
+
 @contextmanager
 def _beside(folder: Path, imported: list[str]) -> Iterator[None]:
     """Run with ``folder`` first on ``sys.path``, as ``python script.py`` would: a part script
     imports the modules beside it (``_seed004.py`` → ``from _seed004 import ...``). Those modules
     are read afresh — any copy already imported (by a notebook, by pytest's doctest collection)
-    is set aside for the run and put back after — listed in ``imported``, and forgotten again,
+    is set aside for the run and put back after, as is a namesake read from another folder
+    (:func:`_namesakes`) — listed in ``imported``, and forgotten again,
     so the next load reads them afresh too (an edited design module is never served from a cache)."""
     where = str(folder.resolve())
     files = {f.name for f in folder.glob("*.py")}
@@ -97,7 +114,7 @@ def _beside(folder: Path, imported: list[str]) -> Iterator[None]:
             and os.path.dirname(os.path.realpath(module.__file__)) == where
         }
 
-    held = beside()
+    held = beside() | _namesakes(files)
     for name in held:
         del sys.modules[name]
     sys.path.insert(0, where)
