@@ -140,10 +140,16 @@ class ScriptJudge:
     def __init__(self, script: Path, settings: dict[str, float], timeout: float | None) -> None:
         self.job = (str(Path(script).resolve()), dict(settings), timeout)
         self.ctx = None
+        self.warmed = False
         if "forkserver" in multiprocessing.get_all_start_methods():
             self.ctx = multiprocessing.get_context("forkserver")
             self.ctx.set_forkserver_preload(list(PRELOAD))
-            # its imports (seconds) while the page opens, not at the first design's judgement
+
+    def warm(self) -> None:
+        """Start the forkserver (its imports take seconds) in the background, once: the page calls
+        it when it draws the first view that has a slow judgement, not for a problem without one."""
+        if self.ctx is not None and not self.warmed:
+            self.warmed = True
             threading.Thread(target=multiprocessing.forkserver.ensure_running, daemon=True).start()
 
     def __call__(self, x, later: Callable, done: Callable[[str, object], None]) -> Callable[[], None]:

@@ -177,7 +177,7 @@ def build_page(
         state["view"] = view
         drawing.ensure(view.panels, view.pose)
         drawing.draw(view.panels, 0, state["pinned"].panels if state["pinned"] else ())
-        drawing.shade_from(len(view.panels))  # the slow judgement's panels: the design before's
+        drawing.hide_from(len(view.panels))  # the slow judgement's panels: the design before's
         if view.pose is not None:
             drawing.pose(view.pose)
         met = sum(r.ok for r in view.rows)
@@ -192,6 +192,8 @@ def build_page(
         waiting = f"<p><i>{html.escape(view.later_title)}: computing…</i></p>" if view.later else ""
         results.text = state["quick"] + waiting
         if view.later is not None:  # once this design's messages are out, unless another follows
+            if hasattr(judge, "warm"):
+                judge.warm()
             doc.add_timeout_callback(partial(start_later, state["shown"], view, computed.x), LATER_AFTER_MS)
 
     def start_later(number: int, view, x) -> None:

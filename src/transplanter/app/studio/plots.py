@@ -16,11 +16,7 @@ import numpy as np
 
 from transplanter.design.views import Curve, Panel, Pose
 
-__all__ = ["PALETTE", "SLOTS", "STALE_FILL", "Drawing"]
-
-#: a slow judgement's panel is shaded so until its new design's is in (a colour, not its title: a
-#: title's change lays out its plots again in the browser, a colour only repaints)
-STALE_FILL = "#e6e6e6"
+__all__ = ["PALETTE", "SLOTS", "Drawing"]
 
 #: plots placed two by two (a view with more draws the rest under the last)
 SLOTS = 8
@@ -91,7 +87,7 @@ def _data(kind: str, curves) -> dict:
 
 class Drawing:
     """The figures of one page (module docstring): ``roots`` to add to the document, ``scrub`` and
-    ``play`` to place, :meth:`draw` a view's panels (and its pose), :meth:`shade_from` the slow
+    ``play`` to place, :meth:`draw` a view's panels (and its pose), :meth:`hide_from` the slow
     judgement's panels of the design before."""
 
     def __init__(self) -> None:
@@ -136,6 +132,7 @@ class Drawing:
                 f.scatter("x", "y", source=self.pose_src, color="black", size=5)
             slot = self.roots[min(len(self.figures), len(self.roots)) - 1]  # past the last slot, under it
             slot.children = [f] if len(self.figures) <= len(self.roots) else [*slot.children, f]
+            slot.min_height = 360 * len(slot.children)  # its place kept while its figures are hidden
 
     def draw(self, panels: tuple[Panel, ...], first: int = 0, pinned: tuple[Panel, ...] = ()) -> None:
         """``panels`` into the figures from index ``first`` (made if missing); ``pinned``: design
@@ -145,16 +142,21 @@ class Drawing:
             f = self.figures[i]
             if f.title.text != p.title:
                 f.title.text = p.title
-            f.background_fill_color = "#ffffff"
+            if not f.visible:
+                f.visible = True
             for kind in ("path", "obstacle", "mark"):
                 self._update(i, kind, [(j, c) for j, c in enumerate(p.curves) if c.kind == kind])
             b = pinned[k].curves if k < len(pinned) else ()
             self._update(i, "pinned", [(j, c) for j, c in enumerate(b) if c.kind == "path"])
 
-    def shade_from(self, first: int) -> None:
-        """The figures from index ``first`` shaded: the design before's (drawn empty, they would jump)."""
+    def hide_from(self, first: int) -> None:
+        """The figures from index ``first`` hidden until drawn again: the slow judgement's of the
+        design before, which are not this design's. Their places are kept (no jump), and a hidden
+        plot costs the browser nothing: shown, seed 002's three stage plots added ~50 ms to every
+        change of its quick ones (the compositor's frames carry every canvas on the page; 215
+        against 259-276 ms, ``benchmarks/studio.py``)."""
         for f in self.figures[first:]:
-            f.background_fill_color = STALE_FILL
+            f.visible = False
 
     def pose(self, pose: Pose) -> None:
         """Every pose of the cycle to the browser (float32: drawn only, 0.01 µm at 1 m), the one at
