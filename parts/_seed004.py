@@ -564,9 +564,15 @@ def as_built(x, written: str = "OPTIMUM") -> DesignView:
     how = f"cut as the build cuts it ({written}): {teeth}"
     if written == "OPTIMUM":  # made_design's fallback: the rules before issue 27 (see the rows)
         how += "; OPTIMUM is cut under the rules before issue 27, its ring tips as short as the screen needs"
+    short = [r.name for r in marked if not r.ok]
+    besides = (
+        "under the planets' play the build states each objective's worst (the train's proof) and refuses none"
+        + (f": here {len(short)} short ({'; '.join(short)})" if short else "")
+        + "; it also proves the made parts (meshing, backlash, the machine's clearances), which this does not"
+    )
     return DesignView(
         rows=rows_from_objectives(at_place) + marked + _rule_rows(cuttability(train, cut.module, cut)),
-        notes=(verdict, how),
+        notes=(verdict, how, besides),
     )
 
 

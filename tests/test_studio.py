@@ -370,6 +370,9 @@ def problem():
         refused = _page_once_in(browser, "403")
         assert "not for the browser" not in refused and "403" in refused
         (made / "leak.txt").unlink()
+        browser.get(url)  # a new page opens on what the file now holds
+        _results(browser, 0)
+        assert browser.execute_script("return Bokeh.documents[0].get_model_by_name('slider-crank_mm').value") == 61.5
         with pytest.raises(urllib.error.HTTPError) as refused:  # without the token's cookie
             urllib.request.urlopen(base + "files/fourbar_seed001/report.html", timeout=30)
         refused.value.close()
@@ -412,6 +415,27 @@ def test_a_pinned_design_is_drawn_beside_and_its_objectives_differenced(browser,
     assert pinned[0] == ["B: ellipse"] and math.isclose(pinned[1], 4.0)
     row = re.search(r'data-name="area".*?</tr>', text).group(0)
     assert "this - B" in text and f"{np.pi * 2 * 4 - np.pi * 16:+.3g}" in row
+
+
+def test_a_script_edited_while_served_is_loaded_again_for_a_new_page_or_its_error_said(browser, tmp_path):
+    script = tmp_path / "ellipse.py"
+    script.write_text(USER_SCRIPT)
+    with _serve(script) as url:
+        browser.get(url)
+        _results(browser, 0)
+        script.write_text(USER_SCRIPT.replace("x0=(4.0, 4.0)", "x0=(2.5, 4.0)"))
+        browser.get(url)
+        _results(browser, 0)
+        assert browser.execute_script("return Bokeh.documents[0].get_model_by_name('slider-a_mm').value") == 2.5
+        script.write_text("def problem(:\n")
+        browser.get(url)
+        t, said = time.time(), ""
+        while time.time() - t < 30 and "syntax error" not in said:
+            said = browser.execute_script(
+                "return window.Bokeh && Bokeh.documents.length ? Bokeh.documents[0].roots()[0].text : '';"
+            )
+            time.sleep(0.2)
+        assert "ellipse.py:1: syntax error" in said and "Traceback" not in said
 
 
 def test_another_interface_is_asked_for_and_warned_about(tmp_path):

@@ -73,26 +73,56 @@ def _opening(problem, designs: dict, start: str | None) -> tuple[float, ...]:
     return tuple(0.5 * (lo + hi) for _, lo, hi in problem.variables)
 
 
+def _stamp(*paths: Path | None) -> tuple:
+    """What says a file changed: each path's modification time and size (None: gone)."""
+    out = []
+    for p in paths:
+        try:
+            s = p.stat() if p is not None else None
+        except OSError:
+            s = None
+        out.append(None if s is None else (s.st_mtime_ns, s.st_size))
+    return tuple(out)
+
+
 def _page_maker(args: argparse.Namespace, script: Path, settings: dict, start: str | None):
-    """``make_document(doc)`` for ``script``'s page (the script loaded at its first use)."""
+    """``make_document(doc)`` for ``script``'s page: the script loaded at its first use, and again
+    for a new page once it or the file its ``problem()`` is in has changed (a design written by
+    "make parts", an edit): a new page opens on what the files hold. A script that no longer
+    loads is said on the page."""
+    import html
+
+    from bokeh.models import Div
+
     from transplanter.app.optimise import script_problem
     from transplanter.app.studio.later import ScriptJudge
     from transplanter.app.studio.page import build_page
 
     loaded: dict = {}
 
+    def load() -> None:
+        problem, names = script_problem(script, settings, args.timeout)
+        designs = named_designs(problem, names)
+        where = names.get("__file__")
+        design_file = Path(where) if isinstance(where, str) else None
+        loaded.update(
+            problem=problem,
+            designs=designs,
+            start=_opening(problem, designs, start),
+            making=(script, design_file, Path(args.output)),
+            judge=loaded.get("judge") or ScriptJudge(script, settings, args.timeout),
+            stamp=_stamp(script, design_file),
+        )
+
     def make(doc) -> None:
-        if not loaded:
-            problem, names = script_problem(script, settings, args.timeout)
-            designs = named_designs(problem, names)
-            where = names.get("__file__")
-            loaded.update(
-                problem=problem,
-                designs=designs,
-                start=_opening(problem, designs, start),
-                making=(script, Path(where) if isinstance(where, str) else None, Path(args.output)),
-                judge=ScriptJudge(script, settings, args.timeout),
-            )
+        try:
+            if not loaded or _stamp(script, loaded["making"][1]) != loaded["stamp"]:
+                load()
+        except TransplanterError as exc:
+            if doc is None:
+                raise
+            doc.add_root(Div(text=f'<b style="color:#b00020">{html.escape(str(exc))}</b>'))
+            return
         if doc is None:
             return
         title = f"{script.name}: {loaded['problem'].name}"
