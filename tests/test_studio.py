@@ -270,10 +270,7 @@ def test_a_search_from_the_page_ends_with_its_optimum_in_the_sliders(browser, tm
     from transplanter.design.optimise import optimise
 
     script = tmp_path / "ellipse.py"
-    script.write_text(USER_SCRIPT)
-    with _serve(script) as url:
-        browser.get(url)
-        _results(browser, 0)
+    with _ellipse_page(browser, script):
         for name, value in (("search-generations", "12"), ("search-popsize", "5"), ("search-seed", "3")):
             _set(browser, name, value)
         browser.execute_script("Bokeh.documents[0].get_model_by_name('search-run').active = true;")
@@ -305,6 +302,29 @@ const b = find(document, arguments[0]);
 if (!b) throw new Error('no button ' + arguments[0]);
 b.click();
 """
+
+
+@contextlib.contextmanager
+def _ellipse_page(browser, script: Path):
+    """The user's ellipse (``USER_SCRIPT``) written to ``script``, served and opened in ``browser``
+    (its first design drawn): the page's URL."""
+    script.write_text(USER_SCRIPT)
+    with _serve(script) as url:
+        browser.get(url)
+        _results(browser, 0)
+        yield url
+
+
+def _first_root_text(browser, word: str, timeout: float = 30.0) -> str:
+    """The text of the page's first Bokeh root (a Div: the listing, a script's error) once ``word``
+    is in it, or as it is after ``timeout`` s."""
+    t, text = time.time(), ""
+    while time.time() - t < timeout and word not in text:
+        text = browser.execute_script(
+            "return window.Bokeh && Bokeh.documents.length ? Bokeh.documents[0].roots()[0].text : '';"
+        )
+        time.sleep(0.2)
+    return text or ""
 
 
 def _page_once_in(browser, word: str, timeout: float = 30.0) -> str:
@@ -419,22 +439,14 @@ def test_a_pinned_design_is_drawn_beside_and_its_objectives_differenced(browser,
 
 def test_a_script_edited_while_served_is_loaded_again_for_a_new_page_or_its_error_said(browser, tmp_path):
     script = tmp_path / "ellipse.py"
-    script.write_text(USER_SCRIPT)
-    with _serve(script) as url:
-        browser.get(url)
-        _results(browser, 0)
+    with _ellipse_page(browser, script) as url:
         script.write_text(USER_SCRIPT.replace("x0=(4.0, 4.0)", "x0=(2.5, 4.0)"))
         browser.get(url)
         _results(browser, 0)
         assert browser.execute_script("return Bokeh.documents[0].get_model_by_name('slider-a_mm').value") == 2.5
         script.write_text("def problem(:\n")
         browser.get(url)
-        t, said = time.time(), ""
-        while time.time() - t < 30 and "syntax error" not in said:
-            said = browser.execute_script(
-                "return window.Bokeh && Bokeh.documents.length ? Bokeh.documents[0].roots()[0].text : '';"
-            )
-            time.sleep(0.2)
+        said = _first_root_text(browser, "syntax error")
         assert "ellipse.py:1: syntax error" in said and "Traceback" not in said
 
 
@@ -580,12 +592,7 @@ def test_without_a_script_a_page_lists_the_designable_ones_read_as_syntax_only(b
     ]
     with _serve(None, "--parts", str(tmp_path)) as url:
         browser.get(url)
-        t, listed = time.time(), ""
-        while time.time() - t < 30 and "ellipse.py" not in listed:
-            listed = browser.execute_script(
-                "return window.Bokeh && Bokeh.documents.length ? Bokeh.documents[0].roots()[0].text : '';"
-            )
-            time.sleep(0.2)
+        listed = _first_root_text(browser, "ellipse.py")
         assert 'href="/ellipse"' in listed and "plain.py" not in listed
         browser.get(url.split("?")[0] + "ellipse")  # the token's cookie opens it
         serial, text = _results(browser, 0)
