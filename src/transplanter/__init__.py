@@ -32,9 +32,48 @@ from __future__ import annotations
 import importlib
 import importlib.abc
 import importlib.util
+import os
+import platform
 import sys
 
 __version__ = "0.1.0"
+
+#: numpy's dispatch groups past AVX2 (numpy >= 2.4's names), turned off by :func:`_same_kernels`
+WIDER_THAN_AVX2 = "X86_V4 AVX512_ICL AVX512_SPR"
+
+
+def _same_kernels() -> None:
+    """Pick the same floating-point kernels on every x86-64 machine with AVX2, so a build's files
+    are byte-identical wherever they are rebuilt (the golden record's digests too).
+
+    numpy and OpenBLAS choose their SIMD kernels by the CPU they run on, and an AVX-512 kernel can
+    round a last bit differently from an AVX2 one (a sine, a matrix product): on an AVX-512
+    machine 7 of seed 000's 49 files differed from the record made on an AVX2 one, and none with
+    these two settings. Set before numpy is first imported (they are read then), and only where the
+    user has set neither: ``OPENBLAS_CORETYPE=Haswell`` (OpenBLAS's AVX2 kernels, numpy's and
+    scipy's copies alike) and, for numpy >= 2.4, ``NPY_DISABLE_CPU_FEATURES`` = the dispatch groups
+    past AVX2. A process that imported numpy before transplanter keeps its kernels."""
+    if "numpy" in sys.modules or platform.machine().lower() not in ("x86_64", "amd64"):
+        return
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as f:
+            flags = next((line.split(":", 1)[1].split() for line in f if line.startswith("flags")), [])
+    except OSError:
+        return
+    if "avx2" not in flags:
+        return
+    os.environ.setdefault("OPENBLAS_CORETYPE", "Haswell")
+    try:
+        from importlib.metadata import version
+
+        major, minor = (int(v) for v in version("numpy").split(".")[:2])
+    except Exception:  # noqa: BLE001 - no numpy metadata: leave its dispatch alone
+        return
+    if (major, minor) >= (2, 4):
+        os.environ.setdefault("NPY_DISABLE_CPU_FEATURES", WIDER_THAN_AVX2)
+
+
+_same_kernels()
 
 #: the former path of every moved module (without ``transplanter.``) -> where it lives now
 MOVED = {
