@@ -32,7 +32,7 @@ import numpy as np
 import shapely
 
 from transplanter.core.errors import GeometryError
-from transplanter.design.linkage.open_chain import OpenChain3R, RatioDistribution, seed002_poses
+from transplanter.design.linkage.open_chain import Beak, OpenChain3R, RatioDistribution, seed002_poses
 from transplanter.design.optimise import Problem
 from transplanter.design.views import Curve, DesignView, Kept, Panel, Pose, Row, soil
 from transplanter.geometry.cams import CamProfile, OscillatingRollerFollower, disc_cam
@@ -117,12 +117,12 @@ def _make_plain() -> tuple:
     return poses, attitudes, y, mids, lin2, lin3, width
 
 
-def chain(link2_offsets=None, link3_offsets=None) -> OpenChain3R:
+def chain(link2_offsets=None, link3_offsets=None, beak: Beak | None = None) -> OpenChain3R:
     """Mechanism ③ with one intermediate point per gap between poses for each relative angle.
 
     The offsets are from the straight line between the neighbouring poses' values at the middle
     of the gap, as fractions of the gap's width in τ (so short gaps get small offsets); None puts
-    no intermediate points.
+    no intermediate points. ``beak``: a picking beak (``_seed002_pick.py`` searches one).
     """
     poses, attitudes, y, mids, lin2, lin3, width = _plain()
     extra2 = (
@@ -131,7 +131,7 @@ def chain(link2_offsets=None, link3_offsets=None) -> OpenChain3R:
     extra3 = (
         tuple(zip(mids, lin3 + width * np.asarray(link3_offsets), strict=True)) if link3_offsets is not None else ()
     )
-    return OpenChain3R(poses, (CIRCLE_X, y), ARM_LENGTH, attitudes, extra2, extra3)
+    return OpenChain3R(poses, (CIRCLE_X, y), ARM_LENGTH, attitudes, extra2, extra3, beak)
 
 
 def swing(ch: OpenChain3R):

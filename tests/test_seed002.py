@@ -7,7 +7,7 @@ import pytest
 
 from transplanter.core.errors import GeometryError, SpecError
 from transplanter.design.linkage.burmester import FourPoses, Pose
-from transplanter.design.linkage.open_chain import OpenChain3R, seed002_poses
+from transplanter.design.linkage.open_chain import Beak, OpenChain3R, seed002_poses
 from transplanter.families import run_script
 
 
@@ -100,6 +100,62 @@ def test_open_chain_passes_the_poses(chain3):
     assert s.arm[1] - s.arm[0] == pytest.approx(0.0, abs=1e-9)
 
 
+@pytest.mark.parametrize(
+    ("tau_deg", "beta2_deg", "turn_deg", "sharpness"), [(150, 85, 55, 300.0), (60, 40, -50, 900.0)]
+)
+def test_a_beak_stops_the_tip_and_sends_it_back_along_the_arm(chain3, tau_deg, beta2_deg, turn_deg, sharpness):
+    """The cusp is exact: the tip's velocity vanishes at the beak (from the splines' derivatives,
+    against a tip speed of ~150 mm/rad elsewhere), its acceleration is ``sharpness`` back along the
+    arm, the arm and link 2 stand as asked, and the four poses are still met."""
+    att = chain3.arm_attitudes
+    beak = Beak(math.radians(tau_deg), math.radians(beta2_deg), att[2] - math.radians(turn_deg), sharpness)
+    ch = OpenChain3R(chain3.poses, chain3.circle, 125.0, att, beak=beak)
+    assert ch.pose_error() < 1e-9
+    t = beak.tau
+    st = ch.state([t])
+    l1, l2, l3 = ch.link_lengths
+    angles = (st.link1[0], st.link2[0], st.arm[0])
+    rates = (-1.0, -1.0 + float(ch.beta2(t, 1)), -1.0 + float(ch.beta2(t, 1) + ch.beta3(t, 1)))
+    accels = (0.0, float(ch.beta2(t, 2)), float(ch.beta2(t, 2) + ch.beta3(t, 2)))
+    velocity = sum(
+        length * w * np.array([-math.sin(a), math.cos(a)])
+        for length, a, w in zip((l1, l2, l3), angles, rates, strict=True)
+    )
+    acceleration = sum(
+        length * (dw * np.array([-math.sin(a), math.cos(a)]) - w**2 * np.array([math.cos(a), math.sin(a)]))
+        for length, a, w, dw in zip((l1, l2, l3), angles, rates, accels, strict=True)
+    )
+    assert np.linalg.norm(velocity) < 1e-9
+    back = -np.array([math.cos(beak.attitude), math.sin(beak.attitude)])
+    assert acceleration == pytest.approx(sharpness * back, abs=1e-9 * sharpness)
+    assert math.remainder(st.arm[0] - beak.attitude, 2 * math.pi) == pytest.approx(0.0, abs=1e-12)
+    assert float(ch.beta2(t)) == pytest.approx(beak.beta2, abs=1e-12)
+    # either side the tip is back along the arm by sharpness s^2 / 2, to second order (the jerk
+    # differs either side of the beak's knot: a cubic spline's third derivative jumps there)
+    step = 1e-4
+    moved = ch.state([t - step, t + step]).tip - st.tip[0]
+    assert moved @ back == pytest.approx([sharpness * step**2 / 2] * 2, rel=0.05)
+    assert np.abs(moved @ [-back[1], back[0]]).max() < 0.05 * sharpness * step**2 / 2  # not sideways
+    plain = OpenChain3R(chain3.poses, chain3.circle, 125.0, att)
+    assert np.linalg.norm(plain.state([t + 0.01]).tip[0] - plain.state([t]).tip[0]) > 0.3  # it was moving
+
+
+def test_bad_beak_input_is_named(chain3):
+    with pytest.raises(SpecError, match="beak tau"):
+        Beak(7.0, 0.1, 0.2, 100.0)
+    with pytest.raises(SpecError, match="beak sharpness"):
+        Beak(1.0, 0.1, 0.2, -1.0)
+    with pytest.raises(SpecError, match="beak spread"):
+        Beak(1.0, 0.1, 0.2, 100.0, spread=0.9)
+    with pytest.raises(SpecError, match="beak shape"):
+        Beak(1.0, 0.1, 0.2, 100.0, shape=(0.0, 0.0))
+    # its knots may not land on a pose's or an intermediate point's
+    att = chain3.arm_attitudes
+    on_pose = Beak(float(chain3.pose_tau[1]) + 2.5 * 0.08, 1.0, att[1], 100.0)
+    with pytest.raises(SpecError, match="must not repeat"):
+        OpenChain3R(chain3.poses, chain3.circle, 125.0, att, beak=on_pose)
+
+
 def test_ratio_distribution_closes_and_reproduces_the_arm(chain3):
     dist = chain3.distribute((45.0, 45.0), exponent=0.5)
     for pair in (dist.stage23, dist.stage35):
@@ -161,3 +217,64 @@ def test_seed002_problem_scores_the_stored_optimum(parts_dir):
     start = np.array(ns["START"])
     assert problem(best) < problem(start) - 1.0  # the optimum beats the plain start by > 1 deg
     assert problem(best) == pytest.approx(45.9, abs=0.1)
+
+
+@pytest.fixture(scope="module")
+def pick(parts_dir):
+    return run_script(parts_dir / "_seed002_pick.py")
+
+
+def test_the_pick_search_scores_its_stored_design(pick):
+    """``PICK`` (the picking beak's search, best so far) reads as the docs state it: the chain's
+    tip stands still at its beak, the tray lies within requirement 6, and requirement 2's margin is
+    negative — mechanism ③ crosses the tray by that much (docs/mechanisms/machines.md)."""
+    x = np.array(pick["PICK"])
+    problem = pick["problem"]()
+    ch = pick["pick_chain"](x)
+    margin, inclination, at = pick["pick_margin"](ch)
+    assert margin == pytest.approx(-8.193, abs=0.005)  # mm, as the docs state it
+    assert 50.0 <= inclination <= 60.0
+    assert problem(x) == pytest.approx(1000.0 - 10.0 * margin)
+    said = problem.describe(x)
+    assert (
+        f"{margin:.2f} mm at {at:.1f} deg (margin {margin:.2f})"
+        in said["requirement 2 (arm and claw clear of the tray)"]
+    )
+    assert ch.pose_error() < 1e-9
+
+
+def test_the_pick_measure_covers_the_made_outlines(pick):
+    """The search's measure is conservative: at every sample its margin is at most the true distance
+    from the arm and claw outlines the machine cuts, posed there, to the tray's walls (less the
+    clearance) — the discs cover the outlines; and where it reads an overlap deeper than the
+    clearance the outlines do cross the walls or the picked pot."""
+    import shapely
+
+    from transplanter.machine.carriers import machine_frame
+
+    x = np.array(pick["PICK"])
+    ch = pick["pick_chain"](x)
+    frame = machine_frame(ch)
+    tray, depth, clearance = pick["TRAY"], pick["PICK_DEPTH"], pick["CLEARANCE"]
+    body = shapely.union(*(pick[n] for n in ("ARM_OUTLINE", "CLAW_OUTLINE")))
+    claw = pick["CLAW_OUTLINE"]
+    beak_tip = pick["_to_machine"](frame, ch.state([ch.beak.tau]).tip)[0]
+    axis = ch.beak.attitude + frame[2]
+    mouth = beak_tip - depth * np.array([math.cos(axis), math.sin(axis)])
+    walls, pot = tray.walls(mouth, axis), tray.pot(mouth, axis)
+    tau = 2 * math.pi * np.arange(0, 720, 6) / 720
+    st = ch.state(tau)
+    tip, q = pick["_to_machine"](frame, st.tip), pick["_to_machine"](frame, st.q)
+    margins = pick["pick_margins_at"](ch, tau)
+    crossed = 0
+    for k in range(len(tau)):
+        a = math.atan2(*(tip[k] - q[k])[::-1])
+        c, s = math.cos(a), math.sin(a)
+        placed = [shapely.affinity.affine_transform(g, [c, -s, s, c, q[k, 0], q[k, 1]]) for g in (body, claw)]
+        arm_only = shapely.difference(placed[0], placed[1])
+        true = min(shapely.distance(placed[1], walls), shapely.distance(arm_only, shapely.union(walls, pot)))
+        assert margins[k] <= true - clearance + 1e-9
+        if margins[k] < -clearance - 1.0:
+            assert true == 0.0
+            crossed += 1
+    assert crossed > 0  # the stored design does cross the tray

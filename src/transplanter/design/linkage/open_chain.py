@@ -10,6 +10,15 @@ rotation. With ``τ`` the carrier rotation since pose 1 (``abs1 = abs1_1 - τ``)
   user's intermediate points (seed 002 §4.1: equal end tangents, i.e. periodic);
 - ``β3(τ) = τ + g(τ)`` — link 3 relative to link 2, ``g`` periodic likewise.
 
+**A picking beak** (:class:`Beak`, seed 002 §2.1: "a trajectory with a sharp shape for picking
+seedlings"): at one carrier rotation the tip stands still and turns back — a cusp whose two
+branches leave along the claw, so the claw goes into a pot and comes out along its own line. The
+tip is still when the arm turns about it: with link 1 at ``a1' = -1`` that fixes ``a2'`` and
+``a3'`` (two linear equations), and the tip's acceleration, set to point back along the arm,
+fixes ``a2''`` and ``a3''`` (two more). Knots of β2 and g on either side of the beak take the
+values that give the splines those derivatives there (the splines are linear in their knot values),
+so the cusp is exact, not fitted.
+
 **Ratio distribution** (eqs 12-18, with gears 9, 10, 11 equal spur gears so ``i^8_{5,11} = 1``
 and the sun gear 2 fixed): the cam (fixed to the sun) drives link 2's swing ``β2`` through the
 follower and sector gears 7-8 (ratio 1); the gear train 2-3-(4)-5 on carrier 1 must turn the
@@ -39,7 +48,7 @@ from transplanter.core.errors import GeometryError, SpecError, finite_array, fin
 from transplanter.design.linkage.burmester import FourPoses, Pose
 from transplanter.geometry.pitch import GearPair, PeriodicIntegral, PeriodicSpline
 
-__all__ = ["OpenChain3R", "ChainState", "RatioDistribution", "seed002_poses"]
+__all__ = ["Beak", "OpenChain3R", "ChainState", "RatioDistribution", "seed002_poses"]
 
 TWO_PI = 2 * math.pi
 
@@ -89,6 +98,47 @@ class RatioDistribution:
         return min(self.convexity)
 
 
+@dataclass(frozen=True)
+class Beak:
+    """Where the tip stands still and turns back along the arm (module docstring), rad and mm.
+
+    At carrier rotation ``tau`` link 2 stands ``beta2`` from link 1 and the arm points at
+    ``attitude`` (absolute, the poses' frame); the tip's acceleration there is ``sharpness``
+    (mm/rad², > 0) pointing back along the arm, so the tip leaves the beak by ``sharpness·t²/2``
+    along the claw's line. The knots that make it stand ``spread`` either side of ``tau`` (solved
+    for the cusp); ``shape`` moves β2 and β3 at ``tau ∓ 2.5·spread`` (rad, from the chain without
+    the beak: before, after for β2, then for β3).
+    """
+
+    tau: float
+    beta2: float
+    attitude: float
+    sharpness: float
+    spread: float = 0.08
+    shape: tuple[float, float, float, float] = (0.0, 0.0, 0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        for name in ("tau", "beta2", "attitude"):
+            finite_array(f"beak {name}", [getattr(self, name)])
+        if not 0.0 < self.tau < TWO_PI:
+            raise SpecError.out_of_range("beak tau", self.tau, "inside (0, 2π) rad")
+        finite_positive("beak sharpness", self.sharpness)
+        if not 0.0 < self.spread <= 0.5:
+            raise SpecError.out_of_range("beak spread", self.spread, "in (0, 0.5] rad")
+        if len(finite_array("beak shape", list(self.shape))) != 4:
+            raise SpecError(f"beak shape needs 4 offsets, got {len(self.shape)}")
+        first, *_, last = self.knots()
+        if first <= 0.0 or last >= TWO_PI:
+            raise SpecError.out_of_range(
+                "beak tau", self.tau, f"its knots inside (0, 2π) rad: {2.5 * self.spread:.4g} rad from either end"
+            )
+
+    def knots(self) -> tuple[float, ...]:
+        """The carrier rotations (rad) of the knots the beak adds, in order."""
+        h, far = self.spread, 2.5 * self.spread
+        return (self.tau - far, self.tau - h, self.tau, self.tau + h, self.tau + far)
+
+
 @dataclass(frozen=True, eq=False)
 class OpenChain3R:
     """A synthesised open-chain 3R mechanism through four poses.
@@ -105,6 +155,9 @@ class OpenChain3R:
         Absolute attitude of link 3 at the poses, rad.
     extra_link2, extra_link3 : sequences of (τ, angle)
         Intermediate points of β2(τ) and β3(τ) (rad), τ in (0, 2π) between the poses' τ.
+    beak : Beak or None
+        A picking beak (module docstring): knots added to both curves so the tip stands still there
+        and leaves along the arm.
     degree : int
         Spline degree (3 or 5).
     """
@@ -115,6 +168,7 @@ class OpenChain3R:
     arm_attitudes: tuple[float, ...]
     extra_link2: tuple[tuple[float, float], ...] = ()
     extra_link3: tuple[tuple[float, float], ...] = ()
+    beak: Beak | None = None
     degree: int = 3
     centre: tuple[float, float] = field(init=False)
     pose_tau: np.ndarray = field(init=False, repr=False)
@@ -161,6 +215,62 @@ class OpenChain3R:
         k3 = self._knots(tau, np.array(b3), self.extra_link3, "extra_link3", offset=True)
         object.__setattr__(self, "_beta2", PeriodicSpline(*k2, degree=self.degree))
         object.__setattr__(self, "_g", PeriodicSpline(*k3, degree=self.degree))
+        if self.beak is not None:
+            k2, k3 = self._beak_knots(self.beak, tau, b2, np.array(b3))
+            object.__setattr__(self, "_beta2", PeriodicSpline(*k2, degree=self.degree))
+            object.__setattr__(self, "_g", PeriodicSpline(*k3, degree=self.degree))
+
+    def _beak_knots(self, beak: Beak, tau, b2, b3) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+        """Both curves' knots with the beak's (module docstring): the tip still at ``beak.tau``,
+        its acceleration ``beak.sharpness`` back along the arm."""
+        t = beak.tau
+        l1, l2, l3 = self.link_lengths
+        a1 = self._abs1_start - t
+        a2 = a1 + beak.beta2
+        a3 = beak.attitude
+
+        def e(a):
+            return np.array([math.cos(a), math.sin(a)])
+
+        def n(a):
+            return np.array([-math.sin(a), math.cos(a)])
+
+        m = np.column_stack([l2 * n(a2), l3 * n(a3)])
+        if abs(np.linalg.det(m)) < 1e-9 * l2 * l3:
+            raise GeometryError(
+                f"beak at τ = {math.degrees(t):.3f} deg: link 2 and the arm are in line, so the tip cannot stand "
+                "still there; move the beak's beta2 or attitude"
+            )
+        # tip velocity 0: -l1 n(a1) + l2 a2' n(a2) + l3 a3' n(a3) = 0
+        d2, d3 = np.linalg.solve(m, l1 * n(a1))
+        # tip acceleration -sharpness e(a3): -l1 e(a1) + l2 (a2'' n - a2'^2 e)(a2) + l3 (a3'' n - a3'^2 e)(a3)
+        rhs = -beak.sharpness * e(a3) + l1 * e(a1) + l2 * d2**2 * e(a2) + l3 * d3**2 * e(a3)
+        dd2, dd3 = np.linalg.solve(m, rhs)
+        before, inner, _, after, outer = beak.knots()
+        near = float(self.beta3(t))
+        b3v = near + math.remainder(a3 - a2 - near, TWO_PI)
+        curves = []
+        for values, extra, shape, (v, d1, dd), offset, name in (
+            (b2, self.extra_link2, beak.shape[:2], (beak.beta2, d2 + 1.0, dd2), False, "β2"),
+            (b3, self.extra_link3, beak.shape[2:], (b3v, d3 - d2, dd3 - dd2), True, "β3"),
+        ):
+            base = self.beta2 if not offset else self.beta3
+            ends = ((before, float(base(before)) + shape[0]), (outer, float(base(outer)) + shape[1]))
+
+            def knots(u, extra=extra, ends=ends, v=v, values=values, offset=offset, name=name):
+                ex = (*extra, *ends, (inner, u[0]), (t, v), (after, u[1]))
+                return self._knots(tau, values, ex, f"{name} with the beak", offset=offset)
+
+            def slopes(u, knots=knots, offset=offset):
+                s = PeriodicSpline(*knots(u), degree=self.degree)
+                return np.array([float(s(t, 1)) + (1.0 if offset else 0.0), float(s(t, 2))])
+
+            # the splines are linear in the knot values: three evaluations solve for the two
+            guess = np.array([v - beak.spread * d1, v + beak.spread * d1])
+            f0 = slopes(guess)
+            jac = np.column_stack([slopes(guess + step) - f0 for step in np.eye(2)])
+            curves.append(knots(guess + np.linalg.solve(jac, np.array([d1, dd]) - f0)))
+        return curves[0], curves[1]
 
     @staticmethod
     def _knots(tau, values, extra, name, offset) -> tuple[np.ndarray, np.ndarray]:
