@@ -71,3 +71,29 @@ def test_every_gap_and_between_the_samples(seed004_full_tips):
     assert summary["refined_samples"] > 0 and summary["backlash_at_driver_deg"][0] == round(
         proof.backlash_min.at_deg, 4
     )
+
+
+def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, monkeypatch):
+    """Issue 46: the clearance's nearest samples are asked with a bound per step; every distance the
+    proof can keep is the tree's own, so the proof's figures are the unbounded query's, bit for bit."""
+    pair, sizing, ring, planet = seed004_full_tips
+    index = contact.EdgeIndex(contact.Outline(planet))
+    rng = np.random.default_rng(46)
+    groups = 40
+    p = rng.uniform(-40.0, 40.0, (20_000, 2)) + (float(np.mean(planet.exterior.coords, axis=0)[0]), 0.0)
+    group = rng.integers(0, groups - 3, len(p))  # the last groups empty
+    bounded = index._nearest_samples(p, group, groups)
+    full, _ = index._tree.query(p)
+    upper = np.full(groups, np.inf)
+    np.minimum.at(upper, group, full)
+    kept = full - index._half <= upper[group]
+    assert np.array_equal(bounded[kept], full[kept])  # every point that can be kept: the same distance
+    assert np.all(bounded[~kept] - index._half > upper[group[~kept]])  # the others: still never kept
+    assert np.isinf(bounded).any()  # (the bound did spare the tree work)
+    # and the proof itself, the same figures as with every point asked without a bound
+    proof = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    monkeypatch.setattr(contact.EdgeIndex, "_nearest_samples", lambda self, p, g, n: self._tree.query(p)[0])
+    reference = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    assert proof.summary() == reference.summary()
+    assert np.array_equal(proof.clearance, reference.clearance)
+    assert np.array_equal(proof.clearance_points, reference.clearance_points)

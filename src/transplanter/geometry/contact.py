@@ -240,7 +240,7 @@ class EdgeIndex:
         pts = np.full((groups, 2, 2), np.nan)
         if not len(p):
             return best, pts
-        d_s, _ = self._tree.query(p)
+        d_s = self._nearest_samples(p, group, groups)
         upper = np.full(groups, np.inf)
         np.minimum.at(upper, group, d_s)
         keep = np.flatnonzero(d_s - self._half <= upper[group])
@@ -267,6 +267,37 @@ class EdgeIndex:
         pts[group[o[hit]], 0] = p[o[hit]]
         pts[group[o[hit]], 1] = foot[hit]
         return best, pts
+
+    #: a group's bound on its smallest sample distance is taken from every STRIDE-th point
+    STRIDE = 16
+    #: the other points are asked with a distance bound, in this many batches of like bounds
+    BATCHES = 32
+
+    def _nearest_samples(self, p: np.ndarray, group: np.ndarray, groups: int) -> np.ndarray:
+        """Each point's distance to its nearest sample — exactly the tree's, for every point that
+        :meth:`nearest` can keep — and inf for points that cannot be kept (issue 46: most points of
+        a step lie far beyond its nearest approach, and a bounded query passes them quickly).
+
+        A group's smallest sample distance is at most ``bound``, the smallest over every
+        ``STRIDE``-th point of it; a point is kept only within ``half`` of the group's smallest, so a
+        point whose nearest sample lies beyond ``bound + half`` is never kept, and only that is what
+        the tree's ``distance_upper_bound`` leaves inf (the bound is raised by a relative 1e-9 so no
+        point on it is lost to round-off)."""
+        d_s = np.full(len(p), np.inf)
+        some = np.arange(0, len(p), self.STRIDE)
+        d_some, _ = self._tree.query(p[some])
+        bound = np.full(groups, np.inf)
+        np.minimum.at(bound, group[some], d_some)
+        reach = (bound[group] + self._half) * (1 + 1e-9) + 1e-12
+        unbounded = np.flatnonzero(~np.isfinite(reach))
+        if len(unbounded):
+            d_s[unbounded] = self._tree.query(p[unbounded])[0]
+        bounded = np.flatnonzero(np.isfinite(reach))
+        order = bounded[np.argsort(reach[bounded], kind="stable")]
+        for batch in np.array_split(order, min(self.BATCHES, len(order))) if len(order) else ():
+            if len(batch):
+                d_s[batch] = self._tree.query(p[batch], distance_upper_bound=float(reach[batch].max()))[0]
+        return d_s
 
 
 def _foot(p: np.ndarray, ps: np.ndarray, pe: np.ndarray) -> np.ndarray:
