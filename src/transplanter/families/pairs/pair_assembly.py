@@ -41,6 +41,7 @@ __all__ = [
     "assemble",
     "bodies",
     "make",
+    "steps",
     "timing_mark",
 ]
 
@@ -273,16 +274,36 @@ def meshing_table_problems(files: dict[str, bytes], name: str, report) -> list[s
     return [f"{name} is not the meshing of the DXFs as found ({off:.3g} rad off)"] if off > MESHING_TABLE_RAD else []
 
 
+def steps(made: Made) -> dict[str, tuple[dict[str, bytes], dict]]:
+    """Each role's STEP (when its making asks for one): ``{role: ({file name: bytes}, results)}``
+    — written from the made parts alone, so it may run beside the meshing proof
+    (:class:`~transplanter.families.builder.workers.Beside`)."""
+    out = {}
+    for role, making in zip(ROLES, made.making, strict=True):
+        if making.step:
+            files: dict[str, bytes] = {}
+            out[role] = (files, step_file(made.parts[role], files))
+    return out
+
+
 def assemble(
-    cut: CutPair, made: Made, dxf: MeshReport, min_clearance: float | None, train: TrainHook | None
+    cut: CutPair,
+    made: Made,
+    dxf: MeshReport,
+    min_clearance: float | None,
+    train: TrainHook | None,
+    written: dict[str, tuple[dict[str, bytes], dict]] | None = None,
 ) -> tuple[dict, dict[str, bytes], dict]:
     """The assembly record (``dxf``: the proof on the re-read DXFs), its files (3MF, STEP,
-    motion, drawing) and each role's STEP results."""
+    motion, drawing) and each role's STEP results (``written``: the STEPs :func:`steps` wrote,
+    or None to write them here)."""
     record = _record(cut, made, dxf, min_clearance, train)
     record["model"], out = assembly_file(cut.name, _placed(record, made.parts, bodies(cut.name, train), train))
-    steps = {
-        role: step_file(made.parts[role], out) for role, making in zip(ROLES, made.making, strict=True) if making.step
-    }
+    if written is None:
+        written = steps(made)
+    for files, _ in written.values():
+        out.update(files)
+    steps_done = {role: res for role, (_, res) in written.items()}
     out[f"{cut.name}.motion.csv"] = _motion_csv(cut.pair)
     # what poses a machine built on the pair: the meshing measured on the re-read DXFs
     out[f"{cut.name}.dxf_meshing.csv"] = meshing_csv(dxf)
@@ -304,4 +325,4 @@ def assemble(
             "timing marks meet at the start contact",
         ),
     )
-    return record, out, steps
+    return record, out, steps_done

@@ -21,8 +21,9 @@ from transplanter.geometry.backlash import resolve_backlash
 from transplanter.geometry.cutter import Cutter, RackCutter
 from transplanter.geometry.interference import pair_limits
 from transplanter.geometry.pair_gate import generate_pair, per_gear
-from transplanter.geometry.pitch import GearPair
+from transplanter.geometry.pitch import GearPair, Mesh
 from transplanter.geometry.teeth import CHORD_TOLERANCE, ToothedGear
+from transplanter.report import plots
 from transplanter.shop import formats
 
 __all__ = ["CutPair", "Sized", "cut", "rejected_alternatives", "size"]
@@ -76,6 +77,15 @@ class CutPair:
     @property
     def pair(self) -> GearPair:
         return self.sized.pair
+
+    def teeth_plot(self) -> dict[str, bytes]:
+        """The two gears in mesh at the start, drawn (``<name>.teeth.png`` and ``.svg``)."""
+        pair, gears = self.pair, self.gears
+        external, r0 = pair.mesh is Mesh.EXTERNAL, float(pair.driver.r(0.0))
+        fig = plots.toothed_pair_figure(
+            gears[0].polygon, gears[1].polygon, pair.centre_distance, external, r0, self.name
+        )
+        return plots.figure_files(fig, f"{self.name}.teeth")
 
     def parameters(self, *, backlash_default: bool, must_mesh: bool) -> dict:
         """The parameters record of the pair as cut."""

@@ -12,6 +12,7 @@ this module knows no train and no paper.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
@@ -155,8 +156,9 @@ class PairProof:
             )
         return found
 
-    def results(self, reports: dict) -> tuple[dict, dict[str, bytes], list[str]]:
-        """Figures per source, the meshing plot, and the problems (``source: text``)."""
+    def results(self, reports: dict) -> tuple[dict, Callable[[], dict[str, bytes]], list[str]]:
+        """Figures per source, the meshing plot — drawn when called (its files by name; a check
+        that shows no plot draws none) — and the problems (``source: text``)."""
         band = self.band
         results: dict = {
             "backlash_band_mm": [rounded(band[0], 6), rounded(band[1], 6)],
@@ -180,8 +182,12 @@ class PairProof:
             results[source] = res
         shown = trains.get("stl", trains.get("outline"))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
-        fig = plots.meshing_figure(readable, self.name, shown, note, band=band, clearance=self.min_clearance)
-        return results, plots.figure_files(fig, f"{self.name}.meshing"), problems
+
+        def plot() -> dict[str, bytes]:
+            fig = plots.meshing_figure(readable, self.name, shown, note, band=band, clearance=self.min_clearance)
+            return plots.figure_files(fig, f"{self.name}.meshing")
+
+        return results, plot, problems
 
     def turned(self, files: dict[str, bytes]) -> list[str]:
         """A DXF whose toothed contour is the design turned about its axis, said in those words."""

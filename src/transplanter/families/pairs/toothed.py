@@ -10,13 +10,13 @@ from transplanter.core.errors import GeometryError, SpecError, check_int, check_
 from transplanter.core.tolerances import WIRE_EDM_TOLERANCE
 from transplanter.families.builder.making import Making, check_shop_files
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
+from transplanter.families.builder.workers import Beside
 from transplanter.families.pairs import pair_assembly
 from transplanter.families.pairs.pair_cut import Sized, cut, rejected_alternatives, size
 from transplanter.families.pairs.pair_proof import SHOP_SOURCES, SOURCES, PairProof, TrainHook, screen_verdict
 from transplanter.geometry.backlash import design_backlash
 from transplanter.geometry.cutter import Cutter
-from transplanter.geometry.pitch import GearPair, Mesh
-from transplanter.report import plots
+from transplanter.geometry.pitch import GearPair
 from transplanter.shop.export import json_bytes
 
 __all__ = ["MESH_STEPS", "ToothedPairStudy"]
@@ -79,7 +79,9 @@ class ToothedPairStudy(StudyDefaults):
     **Stations.** :meth:`build` runs the pair's journey as stations that pass frozen values:
     size (:func:`pair_cut.size`) → cut and gate (:func:`pair_cut.cut`, a ``CutPair``) → prove
     the outlines (:class:`pair_proof.PairProof`) → make (:func:`pair_assembly.make`) → prove the
-    DXF and STL → assemble (:func:`pair_assembly.assemble`) → record.
+    DXF and STL → assemble (:func:`pair_assembly.assemble`) → record. Forked processes
+    (``workers.Beside``) write the STEPs beside the DXF and STL proof and draw the plots beside the
+    assembly: the same files, each made once.
     """
 
     cost = 10
@@ -225,43 +227,42 @@ class ToothedPairStudy(StudyDefaults):
             for role, res in made.results.items():
                 results[role]["made"] = res
             files.update(made.files)
-            reports.update(proof.mesh(files, ("dxf", "stl")))
-            results["assembly"], more, steps = pair_assembly.assemble(
-                made_pair, made, reports["dxf"], proof.min_clearance, self.train
-            )
-            for role, res in steps.items():
-                results[role]["made"]["step"] = res
-            files.update(more)
-            if sized.backlash == 0:
-                results["warning"] = (
-                    "zero backlash by request: the shop files carry a note; cut oversize, the pair binds"
+            # the STEPs (OpenCASCADE) are written from the made parts in a process of their own,
+            # beside the proof on the re-read DXF and STL (the same files; issue 46)
+            with Beside(pair_assembly.steps, made) as written:
+                reports.update(proof.mesh(files, ("dxf", "stl")))
+                step_files = written.result()
+        meshing, meshing_plot, problems = proof.results(reports)
+        # the plots (matplotlib) are drawn in a process of their own, beside the assembly (issue 46)
+        with Beside(lambda: meshing_plot() | made_pair.teeth_plot()) as drawn:
+            if self.making is not None and not results.get("shop_files"):
+                results["assembly"], more, steps = pair_assembly.assemble(
+                    made_pair, made, reports["dxf"], proof.min_clearance, self.train, step_files
                 )
-        meshing, plot_files, problems = proof.results(reports)
-        results["meshing"] = meshing
-        if results.get("interference", {}).get("screen_findings"):
-            results["interference"]["verdict"] = screen_verdict(meshing, problems)
-        files.update(plot_files)
-        if problems and not results.get("shop_files"):
-            raise GeometryError(f"{self.name}: the made parts do not mesh: " + "; ".join(problems))
-        results["rejected_alternatives"] = rejected_alternatives(
-            self.pair,
-            self.rejected,
-            addendum=self.addendum,
-            trim_ring_tips=self.trim_ring_tips,
-            check_interference=self.must_mesh,
-            allow_undercut=self.allow_undercut,
-        )
+                for role, res in steps.items():
+                    results[role]["made"]["step"] = res
+                files.update(more)
+                if sized.backlash == 0:
+                    results["warning"] = (
+                        "zero backlash by request: the shop files carry a note; cut oversize, the pair binds"
+                    )
+            results["meshing"] = meshing
+            if results.get("interference", {}).get("screen_findings"):
+                results["interference"]["verdict"] = screen_verdict(meshing, problems)
+            if problems and not results.get("shop_files"):
+                raise GeometryError(f"{self.name}: the made parts do not mesh: " + "; ".join(problems))
+            results["rejected_alternatives"] = rejected_alternatives(
+                self.pair,
+                self.rejected,
+                addendum=self.addendum,
+                trim_ring_tips=self.trim_ring_tips,
+                check_interference=self.must_mesh,
+                allow_undercut=self.allow_undercut,
+            )
+            figures = drawn.result()
+        files.update((k, v) for k, v in figures.items() if k.startswith(f"{self.name}.meshing."))
         files[f"{self.name}.teeth.json"] = json_bytes({"parameters": params, "results": results})
-        pair, gears = sized.pair, made_pair.gears
-        fig = plots.toothed_pair_figure(
-            gears[0].polygon,
-            gears[1].polygon,
-            pair.centre_distance,
-            pair.mesh is Mesh.EXTERNAL,
-            float(pair.driver.r(0.0)),
-            self.name,
-        )
-        files.update(plots.figure_files(fig, f"{self.name}.teeth"))
+        files.update((k, v) for k, v in figures.items() if k.startswith(f"{self.name}.teeth."))
         return Built({"kind": "toothed_pair", "parameters": params, "results": results}, files)
 
     def check(self, files: dict[str, bytes]) -> Checked:

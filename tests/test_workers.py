@@ -1,0 +1,52 @@
+"""Work beside the build (issue 46): ``workers.Beside`` runs a step in a forked process while the
+build goes on — the same value as in this process, its errors raised here, and the work done here
+where no fork is safe or the forked process dies."""
+
+import os
+import threading
+
+import pytest
+
+from transplanter.core.errors import GeometryError
+from transplanter.families.builder.workers import Beside
+
+FORKS = hasattr(os, "fork")
+
+
+def _alone() -> bool:
+    return threading.active_count() == 1
+
+
+def test_the_value_comes_back_from_the_fork_its_arguments_inherited_not_pickled():
+    lock = threading.Lock()  # not picklable: the fork inherits it
+    with Beside(lambda held, k: (os.getpid(), held.locked(), k * 2), lock, 21) as beside:
+        pid, locked, value = beside.result()
+    assert (locked, value) == (False, 42)
+    if FORKS and _alone():
+        assert pid != os.getpid()
+
+
+def test_an_error_of_the_work_is_raised_here():
+    def fails():
+        raise GeometryError("the STEP solid fails its checks")
+
+    with Beside(fails) as beside, pytest.raises(GeometryError, match="fails its checks"):
+        beside.result()
+
+
+def test_a_fork_that_dies_has_its_work_done_here():
+    parent = os.getpid()
+    with Beside(lambda: os._exit(3) if os.getpid() != parent else "done here") as beside:
+        assert beside.result() == "done here"
+
+
+def test_no_fork_while_other_threads_run():
+    stop = threading.Event()
+    other = threading.Thread(target=stop.wait)
+    other.start()
+    try:
+        with Beside(os.getpid) as beside:
+            assert beside.result() == os.getpid()
+    finally:
+        stop.set()
+        other.join()
