@@ -83,21 +83,45 @@ May import
     every station below it (core … report); ``builder`` < ``pairs``, ``mechanisms`` < ``machines``.
 """
 
-from transplanter.families.builder.build import build_families, build_family
-from transplanter.families.builder.checking import check_families, check_family
-from transplanter.families.builder.making import Making
-from transplanter.families.builder.scripts import Family, discover, load_family, run_script
-from transplanter.families.builder.study import Built, Checked, Study, StudyDefaults, Table
-from transplanter.families.builder.workers import part_outcome
-from transplanter.families.machines.planetary_machine import Layers, PlanetaryMachineStudy
-from transplanter.families.mechanisms.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
-from transplanter.families.mechanisms.linkage import ArmStudy, BalancingStudy
-from transplanter.families.mechanisms.plates import Joint, LinkPlatesStudy
-from transplanter.families.mechanisms.synthesis import SynthesisStudy
-from transplanter.families.mechanisms.trains import FrontPoint, PlanetaryStudy, TrainProof
-from transplanter.families.pairs.gear_pair import gear_pair, pair_family
-from transplanter.families.pairs.pitch import PitchPairStudy
-from transplanter.families.pairs.toothed import MESH_STEPS, ToothedPairStudy
+from typing import TYPE_CHECKING
+
+from transplanter.core.forwarding import forward
+
+if TYPE_CHECKING:
+    from transplanter.families.builder.build import build_families, build_family
+    from transplanter.families.builder.checking import check_families, check_family
+    from transplanter.families.builder.making import Making
+    from transplanter.families.builder.scripts import Family, discover, load_family, run_script
+    from transplanter.families.builder.study import Built, Checked, Study, StudyDefaults, Table
+    from transplanter.families.builder.workers import part_outcome
+    from transplanter.families.machines.planetary_machine import Layers, PlanetaryMachineStudy
+    from transplanter.families.mechanisms.cams import FOLLOWER_STEPS, FOLLOWER_TOL, CamStudy
+    from transplanter.families.mechanisms.linkage import ArmStudy, BalancingStudy
+    from transplanter.families.mechanisms.plates import Joint, LinkPlatesStudy
+    from transplanter.families.mechanisms.synthesis import SynthesisStudy
+    from transplanter.families.mechanisms.trains import FrontPoint, PlanetaryStudy, TrainProof
+    from transplanter.families.pairs.gear_pair import gear_pair, pair_family
+    from transplanter.families.pairs.pitch import PitchPairStudy
+    from transplanter.families.pairs.toothed import MESH_STEPS, ToothedPairStudy
+
+#: where each name lives
+_WHERE = {
+    "transplanter.families.builder.build": ["build_families", "build_family"],
+    "transplanter.families.builder.checking": ["check_families", "check_family"],
+    "transplanter.families.builder.making": ["Making"],
+    "transplanter.families.builder.scripts": ["Family", "discover", "load_family", "run_script"],
+    "transplanter.families.builder.study": ["Built", "Checked", "Study", "StudyDefaults", "Table"],
+    "transplanter.families.builder.workers": ["part_outcome"],
+    "transplanter.families.machines.planetary_machine": ["Layers", "PlanetaryMachineStudy"],
+    "transplanter.families.mechanisms.cams": ["FOLLOWER_STEPS", "FOLLOWER_TOL", "CamStudy"],
+    "transplanter.families.mechanisms.linkage": ["ArmStudy", "BalancingStudy"],
+    "transplanter.families.mechanisms.plates": ["Joint", "LinkPlatesStudy"],
+    "transplanter.families.mechanisms.synthesis": ["SynthesisStudy"],
+    "transplanter.families.mechanisms.trains": ["FrontPoint", "PlanetaryStudy", "TrainProof"],
+    "transplanter.families.pairs.gear_pair": ["gear_pair", "pair_family"],
+    "transplanter.families.pairs.pitch": ["PitchPairStudy"],
+    "transplanter.families.pairs.toothed": ["MESH_STEPS", "ToothedPairStudy"],
+}
 
 __all__ = [
     "Layers",
@@ -134,3 +158,11 @@ __all__ = [
     "FOLLOWER_STEPS",
     "FOLLOWER_TOL",
 ]
+
+#: every name is imported from its module when first asked for: ``transplanter pair`` loads the pair's
+#: modules, not every study kind's (the machines, the linkages, the planetary trains; issue 46)
+__getattr__ = forward(__name__, {name: module for module, names in _WHERE.items() for name in names})
+
+
+def __dir__() -> list[str]:
+    return sorted(__all__)

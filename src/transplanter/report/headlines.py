@@ -11,18 +11,21 @@ order a kind's metric records are tabulated in (its paper's table).
 from __future__ import annotations
 
 import dataclasses
+import importlib
 import sys
 from functools import cache
 
-from transplanter.design.agronomy import TransplantingMetrics
-from transplanter.design.linkage.planting import PlantingMetrics
 from transplanter.report.tables import is_metric, number, unit_text, value
 
 __all__ = ["ORDERS", "headline", "table_order"]
 
 Row = tuple[str, str, str]
 #: the metrics a kind records, by the class whose ``table()`` gives them in its paper's order
-ORDERS = {"arm": PlantingMetrics, "planetary": TransplantingMetrics}
+#: (module, class: imported when a page tabulates that kind — a pair's page loads no paper's metrics)
+ORDERS = {
+    "arm": ("transplanter.design.linkage.planting", "PlantingMetrics"),
+    "planetary": ("transplanter.design.agronomy", "TransplantingMetrics"),
+}
 
 
 def _blank(cls):
@@ -43,7 +46,8 @@ def _blank(cls):
 def table_order(kind: str) -> tuple[str, ...]:
     """The quantities of a kind's metrics table in its paper's order (seed 000's Table 2 for a
     four-bar arm), () for a kind without one (or a metrics class this cannot fill with zeros)."""
-    cls = ORDERS.get(kind)
+    where = ORDERS.get(kind)
+    cls = getattr(importlib.import_module(where[0]), where[1]) if where else None
     try:
         return tuple(row[0] for row in _blank(cls).table()) if cls else ()
     except (KeyError, TypeError, ValueError, ArithmeticError):  # a field of a type _blank does not know

@@ -221,6 +221,8 @@ def ascii_text(text: str) -> str:
     """``text`` as a DXF holds it in ASCII: Ø, ° and ± as DXF's control codes ``%%c``, ``%%d``,
     ``%%p``, any other character past ASCII as its ``\\U+XXXX`` escape — never raw bytes a reader
     takes in the file's code page (R2000's ANSI_1252 showed a UTF-8 Ø as "Ã˜")."""
+    if text.isascii():  # a whole drawing, mostly: not rebuilt a character at a time
+        return text
     return "".join(c if ord(c) < 128 else _CONTROL_CODES.get(c, f"\\U+{ord(c):04X}") for c in text)
 
 
