@@ -46,6 +46,7 @@ from _seed002 import (
     MIN_RELATIVE_SPEED,
     SAMPLES,
     TRAY,
+    _to_machine,
     chain,
     follower,
     reach,
@@ -147,13 +148,6 @@ def _chain(x, side: float) -> OpenChain3R:
     return chain(x[0:4], x[4:8], beak)
 
 
-def _to_machine(frame, p) -> np.ndarray:
-    cx, cy, turn = frame
-    p = np.asarray(p, dtype=float) - [cx, cy]
-    c, s = math.cos(turn), math.sin(turn)
-    return np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1]], axis=-1)
-
-
 def _to_boundary(poly, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     """Each point's distance (mm) to the boundary of ``poly`` (a few segments, numpy)."""
     best = np.full(x.shape, np.inf)
@@ -218,42 +212,41 @@ def problem(side: float = 1.0) -> Problem:
         raise GeometryError(f"side = {side!r}: give -1 or 1")
     lo, hi = TURN_RANGE
 
-    def measures(x):
+    def judged(x) -> tuple[float, dict[str, tuple[float, float, str]]]:
+        """The cam's largest pressure angle (deg) and each requirement's (value, margin, unit)."""
         ch = _chain(x, side)
         rel = relative_speed(ch)
         margin, inclination, at = pick_margin(ch)
-        return ch, rel, margin, inclination, at
-
-    def cost(x):
-        ch, rel, margin, inclination, _ = measures(x)
-        # every shortfall graded and summed, so the search weighs the tray against what a cam and
-        # two gear stages can make; a design short of none costs its cam's pressure angle (deg)
-        short = 10.0 * max(0.0, -margin) + 10.0 * max(0.0, abs(inclination - (hi + lo) / 2) - (hi - lo) / 2)
-        short += 100.0 * max(0.0, MIN_RELATIVE_SPEED - rel.min())
         pivot, arm, base = x[8:11]
         prime, low, high = reach(pivot, arm, base)
-        short += 0.1 * max(0.0, low - prime, prime - high)
         try:
             pressure = math.degrees(swing_cam(swing(ch), follower(pivot, arm, base)).max_pressure_angle)
         except GeometryError:  # no cam gives that swing to that follower under PRESSURE_CEILING
-            pressure, short = 90.0, short + 50.0
-        short += max(0.0, pressure - CAM_PRESSURE_LIMIT_DEG)
+            pressure = 90.0
         try:
             p = stages(ch).p if rel.min() > 0 else -math.inf
         except GeometryError:
             p = -math.inf
-        short += min(100.0, 50.0 * max(0.0, MIN_CONVEXITY - p))
+        return pressure, {
+            f"requirement 2 (arm and claw clear of the tray, least at {at:.1f} deg)": (margin, margin, "mm"),
+            "requirement 6 (tray inclination)": (inclination, (hi - lo) / 2 - abs(inclination - (hi + lo) / 2), "deg"),
+            "arm turning relative to carrier 1": (rel.min(), rel.min() - MIN_RELATIVE_SPEED, "rad/rad"),
+            "follower's reach to the prime circle": (prime, min(prime - low, high - prime), "mm"),
+            "swing cam's largest pressure angle": (pressure, CAM_PRESSURE_LIMIT_DEG - pressure, "deg"),
+            "gear stages' convexity index": (p, p - MIN_CONVEXITY, ""),
+        }
+
+    weights = (10.0, 10.0, 100.0, 0.1, 1.0, 50.0)
+
+    def cost(x):
+        # every shortfall graded and summed, so the search weighs the tray against what a cam and
+        # two gear stages can make; a design short of none costs its cam's pressure angle (deg)
+        pressure, rows = judged(x)
+        short = sum(min(100.0, w * max(0.0, -m)) for w, (_, m, _) in zip(weights, rows.values(), strict=True))
         return pressure + (100.0 + short if short > 0 else 0.0)
 
     def describe(x):
-        _, rel, margin, inclination, at = measures(x)
-        return {
-            "requirement 2 (arm and claw clear of the tray)": f"{margin:.2f} mm at {at:.1f} deg (margin {margin:.2f})",
-            "requirement 6 (tray inclination)": (
-                f"{inclination:.2f} deg (margin {(hi - lo) / 2 - abs(inclination - (hi + lo) / 2):.2f})"
-            ),
-            "arm turning relative to carrier 1": f"{rel.min():.3f} (margin {rel.min() - MIN_RELATIVE_SPEED:.3f})",
-        }
+        return {k: f"{v:.4g} {unit} (margin {m:.4g})".replace("  ", " ") for k, (v, m, unit) in judged(x)[1].items()}
 
     names = [f"beta2_offset_gap{k}" for k in range(1, 5)] + [f"beta3_offset_gap{k}" for k in range(1, 5)]
     bounds = [(-0.2, 0.2)] * 8 + [(100.0, 250.0), (25.0, 80.0), (60.0, 120.0)]

@@ -50,3 +50,27 @@ def test_no_fork_while_other_threads_run():
     finally:
         stop.set()
         other.join()
+
+
+def _in_a_daemon(conn) -> None:
+    with Beside(os.getpid) as beside:
+        conn.send((beside.result(), os.getpid()))
+
+
+@pytest.mark.skipif(not FORKS, reason="needs fork")
+def test_a_daemonic_process_does_the_work_itself():
+    """A daemon may have no children (the design studio's slow judgement runs in one): the work is
+    done in it, not refused."""
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("fork")
+    receive, send = ctx.Pipe(duplex=False)
+    child = ctx.Process(target=_in_a_daemon, args=(send,), daemon=True)
+    child.start()
+    try:
+        assert receive.poll(60), "the daemon never answered (a pool it may not have, waited on)"
+        ran_in, daemon = receive.recv()
+    finally:
+        child.kill()
+        child.join()
+    assert ran_in == daemon

@@ -74,15 +74,20 @@ class Beside:
     is not picklable).
 
     The same call, the same value: the work runs in this process instead — when :meth:`result`
-    is asked — where no fork can be made safely (no ``fork`` start method, or other threads
-    running, which a fork would copy mid-step) or the forked process died before answering."""
+    is asked — where no fork can be made safely (no ``fork`` start method, other threads running,
+    which a fork would copy mid-step, or this process a daemon, which may have no children: the
+    design studio's slow judgement runs in one) or the forked process died before answering."""
 
     def __init__(self, fn: Callable[..., Any], *args) -> None:
         import multiprocessing
 
         self._call = (fn, args)
         self._pool = self._future = None
-        if "fork" not in multiprocessing.get_all_start_methods() or threading.active_count() > 1:
+        if (
+            "fork" not in multiprocessing.get_all_start_methods()
+            or threading.active_count() > 1
+            or multiprocessing.current_process().daemon  # a daemonic process may have no children
+        ):
             return
         key = next(_KEYS)
         _BESIDE[key] = self._call
