@@ -41,6 +41,7 @@ import math
 import numpy as np
 import shapely
 from _seed002 import (
+    ARM_LENGTH,
     CAM_PRESSURE_LIMIT_DEG,
     MIN_CONVEXITY,
     MIN_RELATIVE_SPEED,
@@ -61,6 +62,7 @@ from transplanter.design.linkage.open_chain import Beak, OpenChain3R, seed002_po
 from transplanter.design.optimise import Problem
 from transplanter.families.machines.carrier_machine import DoubleCarrierMachineStudy
 from transplanter.families.machines.carrier_making import ARM_BOSS_MM, ARM_HUB_MM
+from transplanter.geometry.contact import segment_distance
 from transplanter.machine import carrier_parts
 from transplanter.machine.carriers import machine_frame
 
@@ -71,7 +73,9 @@ PICK_DEPTH = 32.0
 CLEARANCE = 3.0
 #: requirement 6: the claw's turn between picking and pushing, and the tray's inclination, deg
 TURN_RANGE = (50.0, 60.0)
-#: the best design found (variables in problem()'s order): run 7 of the search, seed 5, side -1
+#: the best design found for the tray (variables in problem()'s order, side 1): the search when it
+#: graded the tray first (``--seed 5``, then ``--seed 6`` from it); no cam and gear stages make it
+#: (docs/mechanisms/machines.md)
 PICK = (
     0.1753407467284228,
     -0.12437340087394017,
@@ -102,8 +106,8 @@ def _made(field: str) -> float:
 
 #: the arm's and the claw's outlines as the machine cuts them, in the arm's frame (Q at the origin,
 #: the tip on +x, mm)
-ARM_OUTLINE = carrier_parts.arm(125.0, ARM_HUB_MM, ARM_BOSS_MM, _made("claw_at"))
-CLAW_OUTLINE = carrier_parts.claw(125.0, _made("claw_at") - ARM_BOSS_MM, _made("claw_width"), _made("claw_tab"))
+ARM_OUTLINE = carrier_parts.arm(ARM_LENGTH, ARM_HUB_MM, ARM_BOSS_MM, _made("claw_at"))
+CLAW_OUTLINE = carrier_parts.claw(ARM_LENGTH, _made("claw_at") - ARM_BOSS_MM, _made("claw_width"), _made("claw_tab"))
 #: stations along the arm (mm from Q), 2 mm apart
 STATIONS = np.linspace(0.0, 126.0, 64)
 
@@ -120,7 +124,7 @@ def outline_radii(outline, stations: np.ndarray) -> np.ndarray:
             out.append(np.nan)
             continue
         c = shapely.get_coordinates(cut)
-        out.append(float(np.max(np.hypot(np.maximum(np.abs(c[:, 0] - s) - 0.0, 0.0), c[:, 1]))))
+        out.append(float(np.max(np.hypot(c[:, 0] - s, c[:, 1]))))
     return np.array(out)
 
 
@@ -148,16 +152,15 @@ def _chain(x, side: float) -> OpenChain3R:
     return chain(x[0:4], x[4:8], beak)
 
 
-def _to_boundary(poly, x: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Each point's distance (mm) to the boundary of ``poly`` (a few segments, numpy)."""
-    best = np.full(x.shape, np.inf)
+def _to_boundary(poly, points: np.ndarray) -> np.ndarray:
+    """Each of ``points``' (n, 2) distance (mm) to the boundary of ``poly``, segment by segment (a
+    few: faster than making n shapely points)."""
+    best = np.full(len(points), np.inf)
     for ring in shapely.get_parts(shapely.boundary(poly)):
         c = shapely.get_coordinates(ring)
-        a, b = c[:-1], c[1:]
-        ab = b - a
-        for (ax, ay), (dx, dy) in zip(a, ab, strict=True):
-            t = np.clip(((x - ax) * dx + (y - ay) * dy) / (dx * dx + dy * dy), 0.0, 1.0)
-            best = np.minimum(best, np.hypot(x - ax - t * dx, y - ay - t * dy))
+        for a, b in zip(c[:-1], c[1:], strict=True):
+            ends = (np.broadcast_to(a, points.shape), np.broadcast_to(b, points.shape))
+            best = np.minimum(best, segment_distance(points, *ends))
     return best
 
 
@@ -171,22 +174,23 @@ def _tray(ch: OpenChain3R, frame) -> tuple[shapely.Polygon, shapely.Polygon]:
     return TRAY.walls(mouth, axis), TRAY.pot(mouth, axis)
 
 
-def pick_margins_at(ch: OpenChain3R, tau) -> np.ndarray:
+def pick_margins_at(ch: OpenChain3R, tau, frame=None) -> np.ndarray:
     """Requirement 2's margin (mm) at each carrier rotation ``tau`` (rad): the least over the
     stations of the arm's disc against the walls and the pot and the claw's against the walls,
-    less ``CLEARANCE``; negative where a body crosses the tray."""
-    frame = machine_frame(ch)
+    less ``CLEARANCE``; negative where a body crosses the tray. ``frame``: ``machine_frame(ch)``
+    if known."""
+    frame = machine_frame(ch) if frame is None else frame
     walls, pot = _tray(ch, frame)
     both = shapely.union(walls, pot)
     st = ch.state(np.asarray(tau, dtype=float))
     tip, q = _to_machine(frame, st.tip), _to_machine(frame, st.q)
     along = (tip - q) / ch.arm_length
     pts = q[:, None, :] + STATIONS[None, :, None] * along[:, None, :]
-    x, y = pts[..., 0].ravel(), pts[..., 1].ravel()
+    flat = pts.reshape(-1, 2)
 
     def signed(poly):
-        d = _to_boundary(poly, x, y)
-        return np.where(shapely.contains_xy(poly, x, y), -d, d).reshape(pts.shape[:-1])
+        d = _to_boundary(poly, flat)
+        return np.where(shapely.contains_xy(poly, flat[:, 0], flat[:, 1]), -d, d).reshape(pts.shape[:-1])
 
     arm = np.where(np.isnan(ARM_RADII), np.inf, signed(both) - ARM_RADII)
     claw = np.where(np.isnan(CLAW_RADII), np.inf, signed(walls) - CLAW_RADII)
@@ -197,9 +201,10 @@ def pick_margin(ch: OpenChain3R) -> tuple[float, float, float]:
     """(margin mm, inclination deg, τ deg where least) of chain ``ch``'s beak against the tray
     placed by it, at the search's samples (:func:`pick_margins_at`)."""
     tau = 2 * math.pi * np.arange(SAMPLES) / SAMPLES
-    m = pick_margins_at(ch, tau)
+    frame = machine_frame(ch)
+    m = pick_margins_at(ch, tau, frame)
     k = int(np.argmin(m))
-    axis = ch.beak.attitude + machine_frame(ch)[2]
+    axis = ch.beak.attitude + frame[2]
     inclination = abs(math.degrees(math.remainder(axis + math.pi / 2, 2 * math.pi)))
     return float(m[k]), inclination, math.degrees(tau[k])
 

@@ -2,21 +2,16 @@
 exports byte-identical wherever they are rebuilt (docs/cli.md, build)."""
 
 import os
-import platform
 import subprocess
 import sys
 
 import pytest
 
+import transplanter
 
-def _has_avx2() -> bool:
-    if platform.machine().lower() not in ("x86_64", "amd64") or not os.path.exists("/proc/cpuinfo"):
-        return False
-    with open("/proc/cpuinfo") as f:
-        return " avx2" in f.read()
-
-
-pytestmark = pytest.mark.skipif(not _has_avx2(), reason="the pin applies to x86-64 machines with AVX2")
+pytestmark = pytest.mark.skipif(
+    "avx2" not in transplanter._x86_flags(), reason="the pin applies to x86-64 machines with AVX2"
+)
 
 SHOW = "import os; print(os.environ.get('OPENBLAS_CORETYPE'), os.environ.get('NPY_DISABLE_CPU_FEATURES'))"
 

@@ -268,13 +268,10 @@ def test_the_pick_measure_covers_the_made_outlines(pick, beak_beta2_deg):
         x[12] = beak_beta2_deg
     ch = pick["pick_chain"](x)
     frame = machine_frame(ch)
-    tray, depth, clearance = pick["TRAY"], pick["PICK_DEPTH"], pick["CLEARANCE"]
+    clearance = pick["CLEARANCE"]
     body = shapely.union(*(pick[n] for n in ("ARM_OUTLINE", "CLAW_OUTLINE")))
     claw = pick["CLAW_OUTLINE"]
-    beak_tip = pick["_to_machine"](frame, ch.state([ch.beak.tau]).tip)[0]
-    axis = ch.beak.attitude + frame[2]
-    mouth = beak_tip - depth * np.array([math.cos(axis), math.sin(axis)])
-    walls, pot = tray.walls(mouth, axis), tray.pot(mouth, axis)
+    walls, pot = pick["_tray"](ch, frame)
     tau = 2 * math.pi * np.arange(720) / 720
     st = ch.state(tau)
     tip, q = pick["_to_machine"](frame, st.tip), pick["_to_machine"](frame, st.q)

@@ -42,6 +42,17 @@ __version__ = "0.1.0"
 WIDER_THAN_AVX2 = "X86_V4 AVX512_ICL AVX512_SPR"
 
 
+def _x86_flags() -> list[str]:
+    """The CPU's feature flags where it is an x86-64 that says them (Linux's /proc/cpuinfo), else []."""
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        return []
+    try:
+        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as f:
+            return next((line.split(":", 1)[1].split() for line in f if line.startswith("flags")), [])
+    except OSError:
+        return []
+
+
 def _same_kernels() -> None:
     """Pick the same floating-point kernels on every x86-64 machine with AVX2, so a build's files
     are byte-identical wherever they are rebuilt (the golden record's digests too).
@@ -53,14 +64,7 @@ def _same_kernels() -> None:
     user has set neither: ``OPENBLAS_CORETYPE=Haswell`` (OpenBLAS's AVX2 kernels, numpy's and
     scipy's copies alike) and, for numpy >= 2.4, ``NPY_DISABLE_CPU_FEATURES`` = the dispatch groups
     past AVX2. A process that imported numpy before transplanter keeps its kernels."""
-    if "numpy" in sys.modules or platform.machine().lower() not in ("x86_64", "amd64"):
-        return
-    try:
-        with open("/proc/cpuinfo", encoding="ascii", errors="replace") as f:
-            flags = next((line.split(":", 1)[1].split() for line in f if line.startswith("flags")), [])
-    except OSError:
-        return
-    if "avx2" not in flags:
+    if "numpy" in sys.modules or "avx2" not in _x86_flags():
         return
     os.environ.setdefault("OPENBLAS_CORETYPE", "Haswell")
     try:
