@@ -10,8 +10,9 @@ def built(families) -> Path:
     """The exports folder named on the command line, or a temporary one ``families`` are built into."""
     from transplanter.families import build_family
 
-    if len(sys.argv) > 1:
-        return Path(sys.argv[1])
+    named = [a for a in sys.argv[1:] if not a.startswith("--")]
+    if named:
+        return Path(named[0])
     out = Path(tempfile.mkdtemp())
     for fam in families:
         build_family(fam, out)

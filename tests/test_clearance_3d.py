@@ -110,7 +110,7 @@ def test_the_in_plane_bound_still_finds_a_narrow_dip_between_the_samples():
     bodies = [Body("pin", pin, (0.0, 5.0), "fixed"), Body("blade", blade, (5.0, 6.0), "late")]
     theta = 2 * math.pi * np.arange(8) / 8
     (v,) = judge_pairs(posed(bodies, links), pairs_to_judge(bodies, links, {}, {}, theta), theta, 0.5, lambda p: 0.2)
-    assert v.judged.sampled.min() > 5.0 and 0.14 < v.figure < 0.16 and not v.passed
+    assert v.judged.samples.values.min() > 5.0 and 0.14 < v.figure < 0.16 and not v.passed
     assert "come 0.15" in v.problem and "(in-plane clearance 0.2 mm)" in v.problem
 
 

@@ -34,6 +34,7 @@ from transplanter.design.planetary import DifferentialTrain
 from transplanter.proof.clearance import (
     CLEARANCE_TOL_MM,
     Posed,
+    Samples,
     closest_approach,
     overlap_areas,
     posed_sections,
@@ -136,7 +137,7 @@ class Judged:
     distance: float
     at_deg: float
     bound: float
-    sampled: np.ndarray = field(repr=False)
+    samples: Samples = field(repr=False)  # on the motion grid, measured when asked (``samples.values``)
     #: False: ``distance`` is only a lower bound (a pair settled without measuring, see
     #: :func:`clearances_under_play`)
     exact: bool = True
@@ -323,7 +324,7 @@ def clearances(
     :func:`posed` gives them."""
     def judge(p: Pair) -> Judged:
         found = closest_approach(bodies[p.a], bodies[p.b], theta, tol)
-        return Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
+        return Judged(p, found.distance, math.degrees(found.theta), found.bound, found.samples)
 
     # two at a time: GEOS and numpy release the GIL for most of a pair's measuring
     with ThreadPoolExecutor(max_workers=2) as pool:
@@ -377,7 +378,7 @@ def clearances_under_play(
                 max(0.0, known.distance - moves),
                 known.at_deg,
                 max(0.0, known.bound - moves),
-                known.sampled,
+                known.samples,
                 exact=False,
             )
         signs_a = (-1.0, 1.0) if la in playing else (0.0,)
@@ -390,7 +391,7 @@ def clearances_under_play(
                 b = dataclasses.replace(ready[p.b], pose=turned(links[lb], (sa if lb == la else sb) * turn).pose)
                 found = closest_approach(wrap(a), wrap(b), theta, tol) if wrap else closest_approach(a, b, theta, tol)
                 if worst is None or found.distance < worst.distance:
-                    worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.sampled)
+                    worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.samples)
         assert worst is not None
         return worst
 

@@ -33,6 +33,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import shapely
@@ -44,7 +45,9 @@ __all__ = [
     "CLEARANCE_TOL_MM",
     "Approach",
     "Posed",
+    "Samples",
     "closest_approach",
+    "least_of",
     "overlap_areas",
     "posed_sections",
     "reach",
@@ -58,6 +61,12 @@ CLEARANCE_TOL_MM = WIRE_EDM_TOLERANCE
 CLEARANCE_REL_TOL = 1e-3
 #: bisection rounds at most (a 0.5° grid is bisected to 3e-8 rad in 20)
 MAX_ROUNDS = 40
+#: the search starts from about this many of the given samples, evenly spread, and bisects from
+#: there (issue 46: starting from all 360 of a machine's positions, nine in ten poses measured were
+#: the grid's, most of them where the bound settles whole degrees at once)
+START_POSES = 48
+#: an open interval is cut into at most this many pieces a round
+SPLIT_MAX = 16
 
 
 def reach(section: shapely.Polygon) -> float:
@@ -113,6 +122,65 @@ def posed_sections(section: shapely.Polygon, x, y, angle) -> np.ndarray:
     return out[0] if len(out) == 1 else np.asarray(shapely.multipolygons(np.stack(out, axis=1)))
 
 
+@dataclass(frozen=True, eq=False)
+class Samples:
+    """A pair's distance at each of ``theta`` (rad) on its coarsest outlines, for display (the
+    machine's slider), measured when asked for: ``lower`` bounds it from below at each position
+    from what the search measured (its Lipschitz bound), ``known`` holds it where the search
+    measured it on those outlines (nan elsewhere)."""
+
+    a: Posed | None
+    b: Posed | None
+    theta: np.ndarray
+    lower: np.ndarray
+    known: np.ndarray
+
+    @classmethod
+    def steady(cls, theta: np.ndarray, d: float) -> Samples:
+        """A distance ``d`` at every position (two bodies that keep it all round)."""
+        same = np.full(len(theta), float(d))
+        return cls(None, None, np.asarray(theta, dtype=float), same, same)
+
+    def __len__(self) -> int:
+        return len(self.theta)
+
+    def __getitem__(self, key) -> Samples:
+        """The samples at ``theta[key]`` (a slice or an index array)."""
+        return Samples(self.a, self.b, self.theta[key], self.lower[key], self.known[key])
+
+    def at(self, where: np.ndarray) -> np.ndarray:
+        """The distance at the positions ``where`` (a boolean mask), measured where not known."""
+        out = self.known[where].copy()
+        todo = np.isnan(out)
+        if todo.any():
+            assert self.a is not None and self.b is not None  # (steady samples are all known)
+            out[todo] = _distances(self.a, self.b, np.mod(self.theta[where][todo], 2 * math.pi))
+        return out
+
+    @cached_property
+    def values(self) -> np.ndarray:
+        """The distance at every position, mm."""
+        return self.at(np.ones(len(self.theta), dtype=bool))
+
+
+def least_of(samples: list[Samples]) -> tuple[np.ndarray, np.ndarray]:
+    """The smallest of ``samples``' distances at each position and which of them it is (the first
+    of equal ones, as ``np.argmin`` over their table): each pair measured only where its lower
+    bound does not exceed the least found so far, so the result is the full table's."""
+    n = len(samples[0])
+    least, which = np.full(n, np.inf), np.full(n, -1)
+    for k in sorted(range(len(samples)), key=lambda i: float(np.min(samples[i].lower))):
+        need = samples[k].lower <= least
+        if not need.any():
+            continue
+        v = samples[k].at(need)
+        cur, who = least[need], which[need]
+        better = (v < cur) | ((v == cur) & (k < who))
+        cur[better], who[better] = v[better], k
+        least[need], which[need] = cur, who
+    return least, which
+
+
 @dataclass(frozen=True)
 class Approach:
     """The closest approach of two bodies over the cycle: ``distance`` (mm, 0 when they
@@ -123,8 +191,13 @@ class Approach:
     theta: float
     bound: float
     evaluations: int
-    #: the distance at each of the given samples, mm
-    sampled: np.ndarray
+    #: the distance at each of the given samples on the coarsest outlines (display), measured when asked for
+    samples: Samples
+
+    @property
+    def sampled(self) -> np.ndarray:
+        """The distance at each of the given samples, mm (:class:`Samples`, all measured)."""
+        return self.samples.values
 
 
 #: poses measured at once (bounds the memory of the posed copies)
@@ -216,7 +289,7 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     lip = float(a.speed + b.speed)
     if lip == 0.0:  # neither moves (a shaft in its bore seen from their frame): one pose tells all
         d = float(_distances(a, b, theta[:1])[0])
-        return Approach(d, float(np.mod(theta[0], 2 * math.pi)), d, 1, np.full(len(theta), d))
+        return Approach(d, float(np.mod(theta[0], 2 * math.pi)), d, 1, Samples.steady(theta, d))
     # two bodies fixed or turning about the origin are never nearer than their radial gap
     floor = 0.0
     if a.radii is not None and b.radii is not None:
@@ -231,9 +304,12 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
 
     # each pose: the distance on its level's outlines and the level; the truth lies within
     # that level's slack of it
-    t, level = theta.copy(), np.zeros(len(theta), int)
+    stride = max(1, len(theta) // START_POSES)
+    t = theta[::stride].copy()
+    level = np.zeros(len(t), int)
     v = measure(t, 0)
-    n0 = len(theta)
+    known = np.full(len(theta), np.nan)
+    known[::stride] = v  # on the coarsest outlines, for display
     evaluations = len(t)
     for _ in range(MAX_ROUNDS * 4):
         lo = np.maximum(v - slack[level], floor)
@@ -260,12 +336,20 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
             continue
         if np.min(h[open_]) < 1e-12:
             raise GeometryError(f"closest_approach did not settle to {tol} mm")
-        mid = t[open_] + h[open_] / 2
+        # each open interval cut into as many pieces as its ends' bounds would settle were the
+        # distance no lower between them (2 to SPLIT_MAX): fewer rounds where the bound is loose
+        room = lo[open_] + lo[(open_ + 1) % len(t)] - 2 * (best - within)
+        width = np.where(room > 0, room / lip, 0.0)
+        pieces = np.where(width > 0, np.ceil(h[open_] / np.maximum(width, 1e-300)), SPLIT_MAX)
+        pieces = np.clip(pieces, 2, SPLIT_MAX).astype(int)
+        cut = np.repeat(open_, pieces - 1)
+        frac = np.concatenate([np.arange(1, n) / n for n in pieces])
+        mid = t[cut] + h[cut] * frac
         vm = measure(mid, 0)
         evaluations += len(mid)
-        t = np.insert(t, open_ + 1, mid)
-        v = np.insert(v, open_ + 1, vm)
-        level = np.insert(level, open_ + 1, 0)
+        t = np.insert(t, cut + 1, mid)
+        v = np.insert(v, cut + 1, vm)
+        level = np.insert(level, cut + 1, 0)
     else:
         raise GeometryError(f"closest_approach did not settle to {tol} mm in {MAX_ROUNDS} rounds")
     lo = np.maximum(v - slack[level], floor)
@@ -274,6 +358,11 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     best, at = (0.0 if lo[k] <= 0.0 else float(hi[k])), float(np.mod(t[k], 2 * math.pi))
     h = np.diff(np.append(t, t[0] + 2 * math.pi))
     low = float(np.min(np.maximum(0.5 * (lo + np.roll(lo, -1) - lip * h), floor)))
-    on_grid = np.isin(t, theta)
-    sampled = v[on_grid][:n0]  # the figure on each sample's outlines (display)
-    return Approach(best, at, max(0.0, min(low, best - within)) if best > 0 else 0.0, evaluations, sampled)
+    # below the coarsest outlines' distance at each given sample: the truth's bound from the nearer
+    # measured pose either side, less the coarsest level's slack
+    i = np.searchsorted(t, theta, side="right") - 1
+    j = (i + 1) % len(t)
+    after = np.where(j == 0, t[0] + 2 * math.pi, t[j])
+    below = np.maximum(np.maximum(lo[i] - lip * (theta - t[i]), lo[j] - lip * (after - theta)), floor)
+    samples = Samples(ladder[0][0], ladder[0][1], theta, below - slack[0], known)
+    return Approach(best, at, max(0.0, min(low, best - within)) if best > 0 else 0.0, evaluations, samples)

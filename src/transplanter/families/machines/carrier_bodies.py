@@ -26,7 +26,7 @@ from transplanter.families.machines.assembly import BoughtBody
 from transplanter.families.machines.record import BOUGHT, OUTLINE_TOL_MM, read_bodies
 from transplanter.machine.bodies import IN_PLANE, Body, Judged, Verdict, judge_pairs
 from transplanter.machine.hardware import Fitted, bought_drawing, mounted, read_turned
-from transplanter.proof.clearance import reach, relative
+from transplanter.proof.clearance import Samples, reach, relative
 
 __all__ = ["SCREWED", "assembly_inputs", "bought", "bought_files", "bodies", "drawing_name", "judge", "screws"]
 
@@ -229,7 +229,7 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
                 f"axial gap {p.axial_gap:g} mm)"
             )
         exact[(p.a, p.b)] = Verdict(
-            p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, d, np.full(len(theta), d)), problem
+            p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, d, Samples.steady(theta, d)), problem
         )
     found = {(v.pair.a, v.pair.b): v for v in judge_pairs(ready, rest, theta, gap, required)}
     return [exact.get((p.a, p.b)) or found[(p.a, p.b)] for p in pairs]

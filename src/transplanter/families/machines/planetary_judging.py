@@ -202,7 +202,7 @@ class _Frames:
         """A there-and-back figure's angle as the driver's, its samples on ``grid``."""
         t = math.radians(j.at_deg) % (2 * math.pi)
         at = math.degrees(self.end * (t / math.pi if t < math.pi else 2.0 - t / math.pi))
-        return dataclasses.replace(j, at_deg=at, sampled=j.sampled[: len(grid)])
+        return dataclasses.replace(j, at_deg=at, samples=j.samples[: len(grid)])
 
 
 def _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, planets) -> tuple[list, _Frames]:

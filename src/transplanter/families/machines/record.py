@@ -27,6 +27,7 @@ from transplanter.machine.bodies import (
     Verdict,
     rigid_pairs,
 )
+from transplanter.proof.clearance import least_of
 from transplanter.shop import formats, solids
 
 __all__ = [
@@ -161,9 +162,8 @@ def pictures(name: str, bodies, links, tips, judged, phases, labels) -> dict[str
     every = MOTION_POSITIONS // animation.SLIDER_POSITIONS
     theta = 2 * math.pi * np.arange(0, MOTION_POSITIONS, every) / MOTION_POSITIONS
     checked = [j for j in judged if not j.pair.working]
-    table = np.stack([j.sampled for j in checked])
-    nearest = np.argmin(table, axis=0)
-    clearance = [(float(table[k, i]), f"{checked[k].pair.a} - {checked[k].pair.b}") for i, k in enumerate(nearest)]
+    least, nearest = least_of([j.samples for j in checked])  # each pair measured only where it may be the nearest
+    clearance = [(float(d), f"{checked[k].pair.a} - {checked[k].pair.b}") for d, k in zip(least, nearest, strict=True)]
     script = animation.slider_script(
         bodies, poses(theta), tips(theta), np.degrees(theta), [p[::every] for p in phases], clearance, labels
     )
