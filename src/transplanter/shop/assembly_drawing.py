@@ -114,11 +114,14 @@ class Balloon:
 def _seen(outlines: list[Outline]) -> dict[str, shapely.Geometry]:
     """Each body's section less what bodies nearer the reader (higher in z) cover."""
     sections = {o.name: o.section for o in outlines}
+    covers: dict[float, shapely.Geometry] = {}  # what covers a body depends on its height alone
     out = {}
     for o in outlines:
-        front = [sections[p.name] for p in outlines if p is not o and sum(p.z) > sum(o.z)]
-        cover = shapely.union_all(front) if front else shapely.Polygon()
-        out[o.name] = sections[o.name].difference(cover)
+        level = sum(o.z)
+        if level not in covers:
+            front = [sections[p.name] for p in outlines if p is not o and sum(p.z) > level]
+            covers[level] = shapely.union_all(front) if front else shapely.Polygon()
+        out[o.name] = sections[o.name].difference(covers[level])
     return out
 
 

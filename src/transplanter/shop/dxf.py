@@ -330,10 +330,11 @@ def outline_layer(data: bytes) -> str:
     return found[0]
 
 
-@functools.lru_cache(maxsize=8)
+@functools.lru_cache(maxsize=64)
 def _parsed_outlines(data: bytes) -> dict[str, tuple[np.ndarray, ...]]:
     # a part's DXF is read back by its own check, by the meshing check and by the assembly
-    # drawing: parse it once (ezdxf's parser is most of the cost)
+    # drawing: parse it once (ezdxf's parser is most of the cost; a machine reads ~40 DXFs, and
+    # with room for 8 it parsed 58 times)
     doc = ezdxf.read(io.StringIO(data.decode()))
     out: dict[str, list[np.ndarray]] = {}
     for e in doc.modelspace().query("LWPOLYLINE POLYLINE"):
