@@ -8,8 +8,10 @@ largest distance of its section from its frame origin), so ``|d(θ) - d(θ')| <=
 ``L`` the sum of both bodies' speed bounds. Over an interval ``[θ0, θ1]`` of width ``h`` the
 distance can therefore not fall below ``(d(θ0) + d(θ1) - L h) / 2``.
 
-:func:`closest_approach` samples ``d`` on a grid and bisects every interval whose bound reaches
-below the smallest value found by more than ``tol``, until none does: the figure it returns is
+:func:`closest_approach` samples ``d`` on every few of the given positions (about
+``START_POSES`` of them) and cuts every interval whose bound reaches below the smallest value
+found by more than ``tol`` — into as many pieces as its ends' bounds would need were ``d`` no
+lower between them — until none does: the figure it returns is
 within ``tol`` of the true minimum over the continuous cycle (however narrow the approach — a
 tip passing a tip for 0.01° is bracketed like any other), and the angle where it lies. The
 bound holds if the poses between the samples move no faster than the stated speeds, which is
