@@ -80,3 +80,23 @@ def test_the_display_bound_holds_and_the_nearest_per_position_is_the_full_tables
 def test_steady_samples_need_no_bodies():
     s = clearance.Samples.steady(THETA, 2.5)
     assert np.all(s.values == 2.5) and np.all(s.lower == 2.5) and len(s[::2]) == 180
+
+
+def test_a_narrow_pass_between_the_starting_positions_is_bracketed():
+    """A thin blade on a crank just misses a pin between two of the ~48 positions the search
+    starts from (every 7th of a 360-position grid): the bound still finds the 0.15 mm pass."""
+    blade = shapely.box(0.0, -0.05, 29.75, 0.05)
+    pin = shapely.Point(30.0, 0.3).buffer(0.1, quad_segs=64)
+
+    def pose(t):
+        t = np.asarray(t, dtype=float)
+        return np.zeros_like(t), np.zeros_like(t), t - math.radians(2.93)  # the pass 3.5° after a start
+
+    found = closest_approach(Posed(blade, pose, speed=29.75), Posed(pin, Posed.fixed, speed=0.0), THETA)
+    start = found.samples.known[~np.isnan(found.samples.known)]
+    assert len(start) <= 60 and start.min() > 1.0  # the starting positions see nothing near
+    near = np.linspace(-0.05, 0.05, 20_001)
+    truth = min(
+        shapely.distance(shapely.affinity.rotate(blade, float(t), origin=(0, 0), use_radians=True), pin) for t in near
+    )
+    assert 0.14 < truth < 0.16 and truth - 1e-6 <= found.distance <= truth + CLEARANCE_TOL_MM
