@@ -7,7 +7,7 @@ import pytest
 
 from transplanter.core.errors import GeometryError, SpecError
 from transplanter.design.linkage.burmester import FourPoses, Pose
-from transplanter.design.linkage.open_chain import Beak, OpenChain3R, seed002_poses
+from transplanter.design.linkage.open_chain import Beak, OpenChain3R, cusp_rates, seed002_poses
 from transplanter.families import run_script
 
 
@@ -138,6 +138,23 @@ def test_a_beak_stops_the_tip_and_sends_it_back_along_the_arm(chain3, tau_deg, b
     assert np.abs(moved @ [-back[1], back[0]]).max() < 0.05 * sharpness * step**2 / 2  # not sideways
     plain = OpenChain3R(chain3.poses, chain3.circle, 125.0, att)
     assert np.linalg.norm(plain.state([t + 0.01]).tip[0] - plain.state([t]).tip[0]) > 0.3  # it was moving
+
+
+@pytest.mark.parametrize(
+    ("tau_deg", "beta2_deg", "turn_deg"), [(150, 85, 55), (60, 40, -50), (80, -9.5, 55), (125, 100, -55)]
+)
+def test_a_beak_asks_the_cam_and_the_arm_the_rates_cusp_rates_says(chain3, tau_deg, beta2_deg, turn_deg):
+    """The closed form of the rates a cusp needs (``cusp_rates``) is what the beak's knots give the
+    splines: link 2's swing rate and the arm's absolute rate, to 1e-9."""
+    att = chain3.arm_attitudes
+    beak = Beak(math.radians(tau_deg), math.radians(beta2_deg), att[2] - math.radians(turn_deg), 300.0)
+    ch = OpenChain3R(chain3.poses, chain3.circle, 125.0, att, beak=beak)
+    st, t = ch.state([beak.tau]), beak.tau
+    b2, ph = cusp_rates(*ch.link_lengths, float(st.link2[0] - st.link1[0]), float(st.arm[0] - st.link2[0]))
+    assert b2 == pytest.approx(float(ch.beta2(t, 1)), abs=1e-9)
+    assert ph == pytest.approx(-1.0 + float(ch.beta2(t, 1) + ch.beta3(t, 1)), abs=1e-9)
+    with pytest.raises(GeometryError, match="beta3"):
+        cusp_rates(73.6, 75.0, 125.0, 0.3, math.pi)
 
 
 def test_bad_beak_input_is_named(chain3):

@@ -48,7 +48,7 @@ from transplanter.core.errors import GeometryError, SpecError, finite_array, fin
 from transplanter.design.linkage.burmester import FourPoses, Pose
 from transplanter.geometry.pitch import GearPair, PeriodicIntegral, PeriodicSpline
 
-__all__ = ["Beak", "OpenChain3R", "ChainState", "RatioDistribution", "seed002_poses"]
+__all__ = ["Beak", "OpenChain3R", "ChainState", "RatioDistribution", "cusp_rates", "seed002_poses"]
 
 TWO_PI = 2 * math.pi
 
@@ -137,6 +137,29 @@ class Beak:
         """The carrier rotations (rad) of the knots the beak adds, in order."""
         h, far = self.spread, 2.5 * self.spread
         return (self.tau - far, self.tau - h, self.tau, self.tau + h, self.tau + far)
+
+
+def cusp_rates(l1: float, l2: float, l3: float, beta2: float, beta3: float) -> tuple[float, float]:
+    """What a beak asks of the chain where link 2 stands ``beta2`` from link 1 and the arm ``beta3``
+    from link 2 (rad; links ``l1``, ``l2``, arm ``l3``, mm): ``(β2', φ3')``, link 2's rate relative
+    to link 1 — the swing cam's — and the arm's absolute rate, per rad of carrier 1 (turning
+    clockwise at unit rate).
+
+    The tip stands still when ``-l1 e(θ1) + l2 θ2' e(θ2) + l3 φ3' e(φ3) = 0`` (velocities turned a
+    quarter); crossing it with ``e(φ3)`` and ``e(θ2)`` gives ``β2' = 1 + (l1/l2) sin(β2+β3)/sin β3``
+    and ``φ3' = -(l1/l3) sin β2 / sin β3``. The arm turns about the still tip at ``φ3'``, so the claw
+    sweeps the pot it picks from unless ``φ3'`` is small — which needs ``sin β2`` small: link 2 in
+    line with link 1 (``β2 ≈ 0``, where the cam must swing it at ``β2' ≈ 1 + l1/l2``) or folded back
+    on it (``β2 ≈ π``, ``β2' ≈ 1 - l1/l2``).
+
+    >>> b2, ph = cusp_rates(73.6, 75.0, 125.0, 0.0, math.pi / 2)
+    >>> round(b2, 4), round(ph, 4)
+    (1.9813, -0.0)
+    """
+    s3 = math.sin(beta3)
+    if abs(s3) < 1e-9:
+        raise GeometryError(f"beta3 = {beta3!r} rad: with the arm in line with link 2 the tip cannot stand still")
+    return 1.0 + (l1 / l2) * math.sin(beta2 + beta3) / s3, -(l1 / l3) * math.sin(beta2) / s3
 
 
 @dataclass(frozen=True, eq=False)
