@@ -264,8 +264,9 @@ class OpenChain3R:
                 f"beak at τ = {math.degrees(t):.3f} deg: link 2 and the arm are in line, so the tip cannot stand "
                 "still there; move the beak's beta2 or attitude"
             )
-        # tip velocity 0: -l1 n(a1) + l2 a2' n(a2) + l3 a3' n(a3) = 0
-        d2, d3 = np.linalg.solve(m, l1 * n(a1))
+        # tip velocity 0 (cusp_rates): link 2's absolute rate a2' = β2' - 1, the arm's a3' = φ3'
+        swing, d3 = cusp_rates(l1, l2, l3, beak.beta2, a3 - a2)
+        d2 = swing - 1.0
         # tip acceleration -sharpness e(a3): -l1 e(a1) + l2 (a2'' n - a2'^2 e)(a2) + l3 (a3'' n - a3'^2 e)(a3)
         rhs = -beak.sharpness * e(a3) + l1 * e(a1) + l2 * d2**2 * e(a2) + l3 * d3**2 * e(a3)
         dd2, dd3 = np.linalg.solve(m, rhs)
