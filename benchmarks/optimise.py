@@ -1,6 +1,6 @@
 """Evaluations per second of a design search on 1, 2 and all cores, its overheads, and the speed-up they predict.
 
-Runs a script's ``problem()`` (default: seed 004's differential train, ``parts/_seed004.py``, 0.1-0.5 s per
+Runs a script's ``problem()`` (default: seed 004's differential train, ``parts/_seed004.py``, 0-0.2 s per
 candidate; seed 002's takes ~70 ms) for a few generations of differential evolution: once serially, timing
 every candidate, then on 2 and on all local cores (a dask ``LocalCluster``, as ``transplanter optimise
 --workers N``), with the same seed. Every run uses deferred updating (one population update per generation),
@@ -9,10 +9,15 @@ The baseline is the serial run of the same search in the same run.
 
 It then measures, on a cluster of all cores, what a parallel generation costs beyond its candidates: the
 cluster's start, a generation's round trip (a map of one empty batch per worker) and each task's share
-(a map of many empty tasks), and predicts the time of a generation on ``w`` workers as the makespan of the
-measured candidates' times dealt out in :data:`~transplanter.design.optimise.BATCHES_PER_WORKER` batches
-per worker (the worker free first takes the next batch), plus those overheads — printed beside what was
-measured for 2 and all cores, and for 16 workers (a 16-core machine) as the prediction.
+(a map of many empty tasks: the dispatcher's time per task), and predicts the time of a generation on ``w``
+workers as the makespan of the measured candidates' times dealt out in the search's batches
+(:func:`~transplanter.design.optimise.batch_bounds`: shrinking to one candidate; the worker free first takes
+the next batch, once the one dispatcher has sent the batches before it), plus a generation's round trip —
+printed beside what was measured for 2 and all cores, and for 16 workers (a 16-core machine) as the
+prediction; beside it, the more pessimistic figure were every task's dispatch to hold up every worker.
+
+The second run on 2 workers is the baseline of the schedule: the same search with the equal batches it had
+before (4 per worker; ``--no-before`` skips it).
 
 Each run's rate is printed in all (the cluster's start and the workers' first imports included: what a short
 search pays once) and after its first generation (what every further generation costs).
@@ -28,7 +33,7 @@ import time
 import numpy as np
 
 from transplanter.design import optimise as search
-from transplanter.design.optimise import BATCHES_PER_WORKER, optimise
+from transplanter.design.optimise import batch_bounds, optimise
 from transplanter.families import run_script
 
 
@@ -49,14 +54,24 @@ def _timed(problem):
     return dataclasses.replace(problem, cost=timed), times
 
 
-def makespan(times, workers: int) -> float:
-    """A generation's candidates (``times`` s, in order) in batches per worker, the free worker first."""
-    n = max(1, min(len(times), workers * BATCHES_PER_WORKER))
-    bounds = np.linspace(0, len(times), n + 1).round().astype(int)
+def equal_batches(n: int, workers: int, per_worker: int = 4) -> list[tuple[int, int]]:
+    """The schedule before issue 46's third pass: ``per_worker`` equal batches per worker (the baseline)."""
+    k = max(1, min(n, workers * per_worker))
+    bounds = np.linspace(0, n, k + 1).round().astype(int)
+    return [(int(a), int(b)) for a, b in zip(bounds, bounds[1:], strict=False) if b > a]
+
+
+def makespan(times, workers: int, schedule=batch_bounds, per_task: float = 0.0) -> float:
+    """A generation's candidates (``times`` s, in order) in the search's batches, the free worker first.
+
+    Every task passes through one dispatcher (the client and the scheduler, one process), which
+    spends ``per_task`` on each in turn while the workers compute: a batch starts when its worker
+    is free and the dispatcher has sent the batches before it."""
     free = [0.0] * workers
-    for a, b in zip(bounds, bounds[1:], strict=False):
-        t = heapq.heappop(free)
-        heapq.heappush(free, t + float(sum(times[a:b])))
+    sent = 0.0
+    for a, b in schedule(len(times), workers):
+        sent = max(heapq.heappop(free), sent) + per_task
+        heapq.heappush(free, sent + float(sum(times[a:b])))
     return max(free)
 
 
@@ -87,6 +102,9 @@ def main() -> None:
     ap.add_argument("script", nargs="?", default="parts/_seed004.py")
     ap.add_argument("--generations", type=int, default=4)
     ap.add_argument("--popsize", type=int, default=4)
+    ap.add_argument(
+        "--no-before", action="store_true", help="skip the run on 2 workers with the old equal batches (the baseline)"
+    )
     args = ap.parse_args()
     problem, times = _timed(run_script(args.script)["problem"]())
     cores = os.cpu_count() or 1
@@ -108,12 +126,19 @@ def main() -> None:
         f"; after the first generation {later / steady1:6.2f} /s"
     )
     measured = {}
-    for w in sorted({2, cores}):
-        res, tw, steady = run(w)
+    runs = [(w, "") for w in sorted({2, cores})] + ([] if args.no_before else [(2, "before")])
+    for w, before in runs:
+        if before:  # the same search, the same run, with the schedule it had: 4 equal batches per worker
+            search.batch_bounds = equal_batches
+        try:
+            res, tw, steady = run(w)
+        finally:
+            search.batch_bounds = batch_bounds
         assert res.evaluations == serial.evaluations and res.fun == serial.fun, "the runs must evaluate alike"
-        measured[w] = (tw, steady)
+        measured[w, before] = (tw, steady)
+        name = f"--workers {w}" + (", equal batches (before)" if before else "")
         print(
-            f"{f'--workers {w}':22s} {res.evaluations:5d} evaluations in {tw:6.2f} s: {res.evaluations / tw:6.2f} /s"
+            f"{name:22s} {res.evaluations:5d} evaluations in {tw:6.2f} s: {res.evaluations / tw:6.2f} /s"
             f" {t1 / tw:5.2f}x serial (the cluster's start and the workers' first imports included);"
             f" after the first generation {later / steady:6.2f} /s, {steady1 / steady:5.2f}x serial"
         )
@@ -125,16 +150,30 @@ def main() -> None:
         f"{per_gen * 1e3:.1f} ms, {per_task * 1e3:.2f} ms per task; {len(gens)} generations of {population}, "
         f"a candidate {np.mean(times) * 1e3:.0f} ms on average ({min(times) * 1e3:.0f}..{max(times) * 1e3:.0f})"
     )
-    for w in sorted({2, cores, 16}):
-        tasks = min(population, w * BATCHES_PER_WORKER)
-        run = sum(makespan(g, w) + per_gen + tasks * per_task for g in gens)
-        total = sum(times)
-        line = f"  {w:2d} workers: predicted {total / run:5.2f}x ({total / (run + start):5.2f}x with the start)"
-        if w in measured:
-            steady = sum(makespan(g, w) + per_gen + tasks * per_task for g in gens[2:])
+    total = sum(times)
+    for (w, before), schedule in [((w, ""), batch_bounds) for w in sorted({2, cores, 16})] + [
+        ((2, "before"), equal_batches)
+    ]:
+        if before and (w, before) not in measured:
+            continue
+
+        def predicted(generations, w=w, schedule=schedule):
+            return sum(makespan(g, w, schedule, per_task) + per_gen for g in generations)
+
+        def serialised(generations, w=w, schedule=schedule):  # no task's dispatch overlapping any computation
+            return sum(makespan(g, w, schedule) + per_gen + len(schedule(len(g), w)) * per_task for g in generations)
+
+        run = predicted(gens)
+        name = f"{w:2d} workers" + (", equal batches (before)" if before else "")
+        line = (
+            f"  {name}: predicted {total / run:5.2f}x ({total / (run + start):5.2f}x with the start;"
+            f" {total / serialised(gens):5.2f}x were every dispatch to hold up every worker)"
+        )
+        if (w, before) in measured:
+            tw, steady = measured[w, before]
             line += (
-                f"; measured {t1 / measured[w][0]:5.2f}x with the start, after the first generation "
-                f"{steady1 / measured[w][1]:5.2f}x (predicted {sum(map(sum, gens[2:])) / steady:5.2f}x)"
+                f"; measured {t1 / tw:5.2f}x with the start, after the first generation "
+                f"{steady1 / steady:5.2f}x (predicted {sum(map(sum, gens[2:])) / predicted(gens[2:]):5.2f}x)"
             )
         print(line + ("" if w <= cores else f" — this machine has {cores} cores"))
 
