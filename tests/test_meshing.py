@@ -97,3 +97,20 @@ def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, 
     assert proof.summary() == reference.summary()
     assert np.array_equal(proof.clearance, reference.clearance)
     assert np.array_equal(proof.clearance_points, reference.clearance_points)
+
+
+def test_a_large_pair_is_meshed_a_few_steps_at_a_time_with_the_same_figures(seed004_full_tips, monkeypatch):
+    """Issue 46: the steps computed together shrink as the outlines grow (the vertex/edge pairs of a
+    chunk are held at once: seed 004's 560-tooth ring took ~560 MB at 64 steps), and every figure is
+    each step's own, so the proof is the same, bit for bit, for any chunk."""
+    pair, sizing, ring, planet = seed004_full_tips
+    sweep = _dense(pair, sizing, ring, planet, 0.0, n=9)
+    vertices = len(sweep.drv.xy) + len(sweep.drn.xy)
+    assert sweep.chunk == min(mesh_engine.MESH_CHUNK, mesh_engine.MESH_CHUNK * mesh_engine.CHUNK_VERTICES // vertices)
+    proof = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    monkeypatch.setattr(mesh_engine, "CHUNK_VERTICES", vertices // 8)  # the smallest chunk, 8 steps
+    assert _dense(pair, sizing, ring, planet, 0.0, n=9).chunk == 8
+    small = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    assert proof.summary() == small.summary()
+    for field in ("penetration", "backlash", "transmission_error", "contacts", "clearance", "clearance_points"):
+        assert np.array_equal(getattr(proof, field), getattr(small, field)), field

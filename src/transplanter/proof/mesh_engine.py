@@ -17,7 +17,7 @@ import shapely
 from transplanter.geometry import contact
 from transplanter.geometry.pitch import driven_axis, driven_turn
 
-__all__ = ["CLEARANCE_CAP_MM", "FOULING_PITCHES", "MESH_CHUNK", "MeshSweep", "MeshingPair"]
+__all__ = ["CHUNK_VERTICES", "CLEARANCE_CAP_MM", "FOULING_PITCHES", "MESH_CHUNK", "MeshSweep", "MeshingPair"]
 
 
 class _Radius(Protocol):
@@ -59,8 +59,13 @@ def _in_band(p: np.ndarray, other: contact.Outline, ring: bool, pad) -> np.ndarr
     return r >= other.r_min - pad if ring else r <= other.r_max + pad
 
 
-#: meshing steps computed together (their vertex/edge pairs held at once)
+#: meshing steps computed together (their vertex/edge pairs held at once), for a pair of up to
+#: :data:`CHUNK_VERTICES` outline vertices in all; a larger pair takes proportionally fewer steps at
+#: once, down to 8 (:meth:`MeshSweep.chunk`): seed 004's 560-tooth ring with its planet (86 473
+#: vertices) held ~560 MB of candidate pairs at 64 steps a chunk, ~150 MB at 8, and ran faster
 MESH_CHUNK = 64
+#: see :data:`MESH_CHUNK`
+CHUNK_VERTICES = 12_000
 
 
 class MeshSweep:
@@ -113,11 +118,18 @@ class MeshSweep:
             )
         return self._reach
 
+    @property
+    def chunk(self) -> int:
+        """Steps computed together: :data:`MESH_CHUNK`, fewer for outlines past :data:`CHUNK_VERTICES`
+        (each step's figures are its own: the same for any chunk)."""
+        vertices = len(self.drv.xy) + len(self.drn.xy)
+        return max(8, min(MESH_CHUNK, MESH_CHUNK * CHUNK_VERTICES // max(1, vertices)))
+
     def all(self) -> None:
         """Fill every array, a chunk of steps at a time."""
-        steps = len(self.phi1)
-        for start in range(0, steps, MESH_CHUNK):
-            ks = np.arange(start, min(steps, start + MESH_CHUNK))
+        steps, chunk = len(self.phi1), self.chunk
+        for start in range(0, steps, chunk):
+            ks = np.arange(start, min(steps, start + chunk))
             self.run(ks)
             self._clearance(ks)
 
