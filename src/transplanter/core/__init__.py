@@ -10,7 +10,8 @@ Gives
     a user hands in, checked in one place), :mod:`~transplanter.core.precision`, :mod:`~transplanter.core.extrema` and
     :mod:`~transplanter.core.text` (text from data printed as text) and :mod:`~transplanter.core.files`
     (the one reader of every file build and check open: regular files only, size-limited, never
-    blocking on a FIFO or following a link).
+    blocking on a FIFO or following a link), :mod:`~transplanter.core.heap` (the memory a stage
+    freed handed back to the system before the next).
 May import
     nothing of transplanter: this is the lowest layer (``tests/test_layout.py``).
 """

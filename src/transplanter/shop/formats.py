@@ -32,13 +32,13 @@ face's edge count: re-reading takes ~1 s for a 1270-face gear and ~4 s for the 5
 
 from __future__ import annotations
 
-import gc
 from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 import shapely
 
+from transplanter.core import heap
 from transplanter.core.errors import ExportError, GeometryError
 from transplanter.core.precision import significant
 from transplanter.core.tolerances import DXF_READBACK_MM, ONE_SIDED_MM, READBACK_FLATTEN_MM, SOLID_VOLUME_REL
@@ -236,7 +236,7 @@ class Step:
         """The file and the check of the solid it was written from: one solid, of the arcs'
         volume (the build's check; the file's validity is checked on re-reading it, see the
         module docstring). The OpenCASCADE solid is built once and released afterwards."""
-        with step.released_memory():
+        with heap.released():
             solid = step.prism(part.arcs, part.width)
             data = step.step_bytes(part.stem, solid)
             report = self.report(solid, self.expected_volume(part), part.stem, check=False)
@@ -315,9 +315,9 @@ class ThreeMf:
             return self._verified(self.read(data), names, volumes)
         finally:
             # the re-read meshes hold reference cycles (trimesh's caches): freed now, not at the
-            # collector's next pass — ~250 MB for the seed-004 ring and planets, which would
-            # otherwise lie under the STEP transfer that follows
-            gc.collect(1)
+            # collector's next pass, and their heap handed back — ~230 MB for the seed-004 ring
+            # and planet, which would otherwise lie under the stages that follow
+            heap.trim(1)
 
     def _verified(self, bodies: dict, names: list[str], volumes: dict[str, float] | None) -> dict:
         if sorted(bodies) != sorted(names):

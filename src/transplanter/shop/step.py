@@ -32,9 +32,6 @@ Examples
 from __future__ import annotations
 
 import cmath
-import contextlib
-import ctypes
-import ctypes.util
 import functools
 import math
 import os
@@ -50,7 +47,7 @@ from transplanter.core.tolerances import FLAT_ARC_RADIUS_MM
 from transplanter.shop.arcs import bulge_area, bulge_points
 from transplanter.shop.step_writing import fixed_header, model_bytes, write_settings
 
-__all__ = ["arcs_area", "prism", "released_memory", "step_bytes", "read_step", "SolidReport", "solid_report"]
+__all__ = ["arcs_area", "prism", "step_bytes", "read_step", "SolidReport", "solid_report"]
 
 
 
@@ -59,30 +56,6 @@ def arcs_area(contours: list[tuple[np.ndarray, bool]]) -> float:
     """Exact area (mm²) of a section given as closed bulge contours ``[(verts (n, 3), is_hole)]``
     (``arcs.bulge_area`` of each, the holes subtracted)."""
     return sum(-abs(bulge_area(v)) if hole else abs(bulge_area(v)) for v, hole in contours)
-
-
-@contextlib.contextmanager
-def released_memory():
-    """Hand the free C heap back to the system (glibc's ``malloc_trim``; nothing elsewhere)
-    before the block and after it: a ring gear's transfer takes ~150 MB that would otherwise
-    stay with the process for the rest of the build, and the heap freed before it (the 3MF
-    reader's ~300 MB, in pieces OpenCASCADE's allocations do not reuse) would stay under it."""
-    trim = _malloc_trim()
-    if trim is not None:
-        trim(0)
-    try:
-        yield
-    finally:
-        if trim is not None:
-            trim(0)
-
-
-@functools.cache
-def _malloc_trim():
-    try:
-        return ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6").malloc_trim
-    except (OSError, AttributeError):  # not glibc
-        return None
 
 
 @functools.cache

@@ -9,6 +9,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from transplanter.core import heap
 from transplanter.core.errors import TransplanterError
 from transplanter.families.builder.scripts import Family, load_family
 from transplanter.families.builder.study import Built, Study
@@ -29,6 +30,8 @@ def part_outcome(part: Study, root: Path, used: dict[str, bytes] | None = None) 
         return f"{type(exc).__name__}: {exc}"
     except Exception as exc:  # a bug, or a library error that escaped: the part fails, the build goes on
         return f"{type(exc).__name__} (unexpected, please report): {exc}"
+    finally:  # the part's freed heap handed back: the next part this process builds starts low
+        heap.trim(1)
 
 
 #: the families being built, by name: set by the builder before it forks its workers

@@ -19,6 +19,7 @@ from typing import Protocol, runtime_checkable
 
 import shapely
 
+from transplanter.core import heap
 from transplanter.core.errors import ExportError
 from transplanter.core.precision import rounded
 from transplanter.core.tolerances import PENETRATION_TOL, SHOP_OVERLAP_MM2
@@ -137,6 +138,7 @@ class PairProof:
         # the sources side by side: numpy, GEOS and the k-d tree release the GIL for most of a check
         with ThreadPoolExecutor(max_workers=min(2, max(1, len(sections)))) as pool:
             done = dict(zip(sections, pool.map(check, sections.values()), strict=True))
+        heap.trim(0)  # the threads' arenas: their vertex/edge pairs would stay resident under what follows
         return out | done
 
     def problems(self, report: MeshReport) -> list[str]:
