@@ -307,6 +307,8 @@ def batch_bounds(n: int, workers: int) -> list[tuple[int, int]]:
     batches (48 candidates, 2 workers, 4 batches each: 6 candidates, ~2.6 s a batch) a worker
     idled on the other's last batch in every generation.
 
+    Examples
+    --------
     >>> [b - a for a, b in batch_bounds(48, 2)]
     [12, 12, 6, 6, 3, 3, 2, 2, 1, 1]
     >>> batch_bounds(3, 4)
