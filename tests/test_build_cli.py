@@ -659,19 +659,36 @@ class _CountedCost:
         return (_CountedCost, ())
 
 
+def _worker_settings() -> dict:
+    import os
+
+    import dask
+
+    keys = ("distributed.admin.tick.interval", "distributed.worker.memory.monitor-interval")
+    keys += ("distributed.worker.memory.spill", "distributed.worker.profile.enabled")
+    return {"OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS"), **{k: dask.config.get(k) for k in keys}}
+
+
 def test_a_parallel_search_ships_its_cost_function_once_and_batches_the_candidates():
     """Issue 46: the problem is scattered to the workers once per run, not pickled per task or per
-    generation, and each generation goes out in batches shrinking to one candidate (the results in order)."""
-    from distributed import Client, LocalCluster
-
+    generation, and each generation goes out in batches shrinking to one candidate (the results in
+    order); the local workers run with ``WORKER_CONFIG``'s settings (spawned, not forked: they get
+    them from their nanny): one BLAS thread each, no profiler, the event loop's tick and memory
+    monitor slowed, no spilling."""
     from transplanter.design import optimise as search
 
     problem = search.Problem("bowl", (("x", -2.0, 2.0), ("y", -2.0, 2.0)), _CountedCost())
-    with (
-        LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster,
-        Client(cluster) as client,
-    ):
-        run = search.ClusterMap(client)
+    with search._evaluator(2, None) as run:
+        seen = run.client.run(_worker_settings)
+        assert len(seen) == 2
+        for settings in seen.values():
+            assert settings == {
+                "OMP_NUM_THREADS": "1",
+                "distributed.admin.tick.interval": "1s",
+                "distributed.worker.memory.monitor-interval": "1s",
+                "distributed.worker.memory.spill": False,
+                "distributed.worker.profile.enabled": False,
+            }
         xs = [np.array([k / 10, 0.0]) for k in range(30)]
         assert run(problem, xs) == [problem(x) for x in xs]  # in the candidates' order
         assert run.tasks == len(search.batch_bounds(30, 2)) == 8  # 8, 8, 4, 4, 2, 2, 1, 1 candidates
@@ -679,7 +696,8 @@ def test_a_parallel_search_ships_its_cost_function_once_and_batches_the_candidat
         for _ in range(3):  # scipy passes the same function every generation: not shipped again
             assert run(problem, xs[:5]) == [problem(x) for x in xs[:5]]
         assert _CountedCost.pickled == before and run.tasks == 8 + 3 * 3  # 2, 2, 1 candidates
-        parallel = search.optimise(problem, seed=2, maxiter=6, popsize=5, scheduler=cluster.scheduler_address)
+        address = run.client.scheduler.address
+        parallel = search.optimise(problem, seed=2, maxiter=6, popsize=5, scheduler=address)
     serial = search.optimise(problem, seed=2, maxiter=6, popsize=5, updating="deferred")
     assert (parallel.x, parallel.fun, parallel.evaluations) == (serial.x, serial.fun, serial.evaluations)
 
@@ -700,32 +718,3 @@ def test_a_generation_goes_out_in_batches_that_shrink_to_one_candidate(workers):
         assert sizes[-1] == 1
         assert sum(sizes[:workers]) >= n // 2  # the first round takes half the generation
         assert len(bounds) <= workers * (2 + n.bit_length())  # a round per halving
-
-
-def _worker_settings() -> dict:
-    import os
-
-    import dask
-
-    keys = ("distributed.admin.tick.interval", "distributed.worker.memory.monitor-interval")
-    keys += ("distributed.worker.memory.spill", "distributed.worker.profile.enabled")
-    return {"OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS"), **{k: dask.config.get(k) for k in keys}}
-
-
-def test_the_local_workers_run_one_blas_thread_and_quiet_housekeeping():
-    """Issue 46: the settings of ``design.optimise.WORKER_CONFIG`` reach the worker processes
-    (spawned, not forked: they get them from their nanny): one BLAS thread each, no profiler, the
-    event loop's tick and memory monitor slowed, no spilling."""
-    from transplanter.design import optimise as search
-
-    with search._evaluator(2, None) as run:
-        seen = run.client.run(_worker_settings)
-    assert len(seen) == 2
-    for settings in seen.values():
-        assert settings == {
-            "OMP_NUM_THREADS": "1",
-            "distributed.admin.tick.interval": "1s",
-            "distributed.worker.memory.monitor-interval": "1s",
-            "distributed.worker.memory.spill": False,
-            "distributed.worker.profile.enabled": False,
-        }
