@@ -6,7 +6,8 @@ outlines (:mod:`~transplanter.proof.meshing` with its sweep :mod:`~transplanter.
 and refinement :mod:`~transplanter.proof.mesh_refine`), the seed-004 train rebuilt from the meshing
 (:mod:`~transplanter.proof.train_rebuild`), the cam follower run on the made contour
 (:mod:`~transplanter.proof.follower`), the smallest distance between two moving bodies
-(:mod:`~transplanter.proof.clearance`), gathered in :mod:`~transplanter.proof.validate`. Under
+(:mod:`~transplanter.proof.clearance`) and how deep one crosses another where they meet
+(:mod:`~transplanter.proof.crossing`), gathered in :mod:`~transplanter.proof.validate`. Under
 load: each tooth's radius of curvature, Hertz and ISO 6336-3 root stress measured on its own
 outline (:mod:`~transplanter.proof.tooth_stress`), and the normal force, stresses and safety
 factors at a contact of a made pair (:mod:`~transplanter.proof.mesh_load`), over a whole cycle with

@@ -54,6 +54,7 @@ __all__ = [
     "posed_sections",
     "reach",
     "relative",
+    "split_intervals",
 ]
 
 #: how close to the true minimum over the cycle a stated clearance is, mm: the wire-EDM
@@ -270,6 +271,19 @@ def _origin_floor(a: Posed, b: Posed) -> float:
     return best
 
 
+def split_intervals(t: np.ndarray, h: np.ndarray, open_: np.ndarray, room: np.ndarray, lip: float):
+    """``(cut, mid)``: each open interval of the cyclic samples ``t`` (widths ``h``) cut into as many
+    pieces as would settle it were the function no worse between its ends — ``room`` (mm) how far
+    the ends' sum is from twice the bar, ``lip`` the Lipschitz constant — 2 to ``SPLIT_MAX``; ``cut``
+    the index of each new point's interval, ``mid`` the point (rad)."""
+    width = np.where(room > 0, room / lip, 0.0)
+    pieces = np.where(width > 0, np.ceil(h[open_] / np.maximum(width, 1e-300)), SPLIT_MAX)
+    pieces = np.clip(pieces, 2, SPLIT_MAX).astype(int)
+    cut = np.repeat(open_, pieces - 1)
+    frac = np.concatenate([np.arange(1, n) / n for n in pieces])
+    return cut, t[cut] + h[cut] * frac
+
+
 def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -> Approach:
     """The smallest distance between ``a`` and ``b`` over the cycle sampled by ``theta`` (rad,
     increasing, one period of 2π, end point excluded), found by branch and bound under the
@@ -341,12 +355,7 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
         # each open interval cut into as many pieces as its ends' bounds would settle were the
         # distance no lower between them (2 to SPLIT_MAX): fewer rounds where the bound is loose
         room = lo[open_] + lo[(open_ + 1) % len(t)] - 2 * (best - within)
-        width = np.where(room > 0, room / lip, 0.0)
-        pieces = np.where(width > 0, np.ceil(h[open_] / np.maximum(width, 1e-300)), SPLIT_MAX)
-        pieces = np.clip(pieces, 2, SPLIT_MAX).astype(int)
-        cut = np.repeat(open_, pieces - 1)
-        frac = np.concatenate([np.arange(1, n) / n for n in pieces])
-        mid = t[cut] + h[cut] * frac
+        cut, mid = split_intervals(t, h, open_, room, lip)
         vm = measure(mid, 0)
         evaluations += len(mid)
         t = np.insert(t, cut + 1, mid)

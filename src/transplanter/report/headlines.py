@@ -318,6 +318,7 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
     low = min(gaps, key=lambda c: c["min_mm"]) if gaps else {}
     poses = [p for p in _list(m.get("poses")) if isinstance(p, dict)]
     soil = _dict(m.get("gearbox_above_soil"))
+    req2 = _get(m, "tray", "requirements", "2")
     rows = _rows(
         ("bodies", _get(res, "assembly", "bodies"), ""),
         ("overlap in the assembly", _get(res, "assembly", "max_overlap_mm3"), "mm³"),
@@ -331,8 +332,9 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
         ("gearbox above the soil required", soil.get("required_mm"), "mm"),
         ("claw into the picked pot", _get(m, "tray", "requirements", "3", "depth_mm"), "mm"),
         ("its margin to requirement 3", _get(m, "tray", "requirements", "3", "margin_mm"), "mm"),
-        ("nearest to the tray's walls", _get(m, "tray", "requirements", "2", "smallest_clearance_mm"), "mm"),
-        ("its margin to requirement 2", _get(m, "tray", "requirements", "2", "margin_mm"), "mm"),
+        ("clearance to the tray (negative: a body crosses it)", _get(req2, "signed_clearance_mm"), "mm"),
+        ("the body crossing the tray most", _get(req2, "deepest_crossing", "body"), ""),
+        ("its margin to requirement 2", _get(req2, "margin_mm"), "mm"),
     )
     rows += _loads(_dict(res.get("loads")))
     proofs = [f"finding: {f}" for f in _list(m.get("findings")) if isinstance(f, str)]

@@ -34,6 +34,7 @@ from transplanter.machine.bodies import (
 )
 from transplanter.machine.carriers import DoubleCarrierMachine
 from transplanter.proof.clearance import overlap_areas, posed_sections
+from transplanter.proof.crossing import deepest_crossing
 
 __all__ = [
     "JOINTS",
@@ -235,31 +236,65 @@ def judge_tray(study, files, bodies, links, ready, grid) -> tuple[dict, list]:
     depth, at = tray.depth_in(claw.section, poses, pot.section, mouth, axis)
     walls = [v for v in verdicts if not v.pair.working]
     worst = min(walls, key=lambda v: v.figure - (v.minimum or 0.0))
-    overlap = {}
+    overlap, deepest = {}, None
     for v in walls:
         if not v.passed:
             area = overlap_areas(ready[v.pair.a], ready[v.pair.b], grid)
+            # how deep the moving body's deepest point lies inside the tray or the pot, over the cycle
+            body, fixed = (v.pair.a, v.pair.b) if v.pair.b in ("tray", "pot") else (v.pair.b, v.pair.a)
+            cross = deepest_crossing(ready[body], ready[fixed], grid)
             overlap[" + ".join((v.pair.a, v.pair.b))] = {
                 "max_mm2": rounded(float(area.max()), 6),
                 "positions": int(np.sum(area > 0.0)),
                 "of": len(grid),
+                "deepest_mm": rounded(cross.depth, 6),
+                "deepest_at_most_mm": rounded(cross.bound, 6),
+                "at_driver_deg": round(math.degrees(cross.theta), 4),
             }
+            if deepest is None or cross.depth > deepest[0].depth:
+                deepest = (cross, body, fixed)
     tz, pz = carrier_posing.tray_z(study)
     claw_z = study.layers.claw
     centre = (pz[0] + pz[1]) / 2
+    # the signed figure: the least clearance when every pair clears, minus the deepest crossing else
+    signed = worst.figure if deepest is None else -deepest[0].depth
     req2 = {
         "text": "seed 002 requirement 2: the seedling clip should not interfere with the plastic pot tray",
         "smallest_clearance_mm": rounded(worst.figure, 6),
-        "between": [worst.pair.a, worst.pair.b],
+        "between": [worst.pair.a, worst.pair.b] if deepest is None else [deepest[1], deepest[2]],
         "required_mm": study.clearance,
-        "margin_mm": rounded(worst.figure - study.clearance, 6),
+        "signed_clearance_mm": rounded(signed, 6),
+        "margin_mm": rounded(signed - study.clearance, 6),
         "overlaps": overlap,
         "pass": all(v.passed for v in walls),
     }
-    if not req2["pass"]:
+    if deepest is not None:
+        cross, body, fixed = deepest
+        req2["deepest_crossing"] = {
+            "body": body,
+            "into": fixed,
+            "depth_mm": rounded(cross.depth, 6),
+            "at_most_mm": rounded(cross.bound, 6),
+            "at_driver_deg": round(math.degrees(cross.theta), 4),
+            "deepest_possible_mm": rounded(cross.inradius, 6),
+            "measure": (
+                "the deepest point of the body inside the tray (its plastic and other cells) or the picked pot, "
+                "from their outline (mm): the least the body would have to move to leave it; the true deepest over "
+                "the continuous cycle, between depth_mm and at_most_mm (proof.crossing); deepest_possible_mm is "
+                "the most any point can be (half the tray's thickness: a body reaching it goes right through)"
+            ),
+        }
+        how = (
+            f"crosses {cross.depth:.3g} mm into the {fixed}"
+            if cross.depth > 0.0
+            else f"comes within {-cross.depth:.3g} mm of the {fixed}"
+        )
+        if cross.depth >= cross.inradius - 0.05:  # as deep as a point can be inside it
+            how += f" (right through it: {cross.inradius:.3g} mm is half its thickness)"
         req2["finding"] = (
-            f"requirement 2 not met: {len(overlap)} pairs of the arm's bodies and the tray overlap (the "
-            f"{worst.pair.a} and the {worst.pair.b} most), the claw picking at Table 1's pose 2"
+            f"requirement 2 not met: {len(overlap)} pairs of the arm's bodies and the tray fail; the {body} {how} "
+            f"at {math.degrees(cross.theta):.1f} deg of the driver (margin {signed - study.clearance:.3g} mm to the "
+            f"{study.clearance:g} mm clearance), the claw picking at Table 1's pose 2"
         )
     req3 = {
         "text": f"seed 002 requirement 3: the seedling clip enters the soil pot at least {study.pot_depth:g} mm",
