@@ -155,7 +155,8 @@ def deepest_crossing(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
         best = float(lo[k])
         within = max(tol, CLEARANCE_REL_TOL * abs(best))
         h = np.diff(np.append(t, t[0] + 2 * math.pi))
-        up = 0.5 * (hi + np.roll(hi, -1) + lip * h)
+        # no point lies deeper inside ``b`` than its inradius, whatever the speed
+        up = np.minimum(0.5 * (hi + np.roll(hi, -1) + lip * h), er.top)
         open_ = np.flatnonzero(up > best + within)
         if not len(open_):
             break
@@ -173,5 +174,5 @@ def deepest_crossing(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
         raise GeometryError(f"deepest_crossing did not settle to {tol} mm in {MAX_ROUNDS} rounds")
     k = int(np.argmax(lo))
     h = np.diff(np.append(t, t[0] + 2 * math.pi))
-    bound = float(np.max(0.5 * (hi + np.roll(hi, -1) + lip * h)))
+    bound = min(float(np.max(0.5 * (hi + np.roll(hi, -1) + lip * h))), er.top)
     return Crossing(float(lo[k]), float(np.mod(t[k], 2 * math.pi)), max(bound, float(lo[k])), evaluations, er.inradius)

@@ -333,7 +333,6 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
         ("claw into the picked pot", _get(m, "tray", "requirements", "3", "depth_mm"), "mm"),
         ("its margin to requirement 3", _get(m, "tray", "requirements", "3", "margin_mm"), "mm"),
         ("clearance to the tray (negative: a body crosses it)", _get(req2, "signed_clearance_mm"), "mm"),
-        ("the body crossing the tray most", _get(req2, "deepest_crossing", "body"), ""),
         ("its margin to requirement 2", _get(req2, "margin_mm"), "mm"),
     )
     rows += _loads(_dict(res.get("loads")))

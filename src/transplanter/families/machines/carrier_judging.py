@@ -290,7 +290,7 @@ def judge_tray(study, files, bodies, links, ready, grid) -> tuple[dict, list]:
             else f"comes within {-cross.depth:.3g} mm of the {fixed}"
         )
         if cross.depth >= cross.inradius - 0.05:  # as deep as a point can be inside it
-            how += f" (right through it: {cross.inradius:.3g} mm is half its thickness)"
+            how += f" (right through it: no point can lie deeper in it than {cross.inradius:.3g} mm)"
         req2["finding"] = (
             f"requirement 2 not met: {len(overlap)} pairs of the arm's bodies and the tray fail; the {body} {how} "
             f"at {math.degrees(cross.theta):.1f} deg of the driver (margin {signed - study.clearance:.3g} mm to the "
