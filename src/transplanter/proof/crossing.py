@@ -55,9 +55,12 @@ from transplanter.proof.clearance import (
 
 __all__ = ["Crossing", "deepest_crossing", "signed_depths"]
 
-#: segments a quarter circle of an erosion's arcs is cut into: the chords stray inside the true
-#: arc by t (1 - cos(π / 256)), under 0.2 µm at a 20 mm depth
+#: segments a quarter circle of an erosion's arcs is cut into. GEOS puts the chords' ends on the true
+#: arc (round a reflex corner of ``b``), so the polygon it returns holds the true erosion and a sliver
+#: more, whose points lie at least ``t cos(π / 512)`` deep: a hit at ``t`` proves that much
 QUAD_SEGS = 128
+#: what a hit on the erosion at ``t`` proves of the depth, as a fraction of ``t``
+CHORD = math.cos(math.pi / (4 * QUAD_SEGS))  # half of a segment's π / 256
 #: rounds at most
 MAX_ROUNDS = 60
 
@@ -88,15 +91,14 @@ class _Erosions:
         self.top = self.inradius + 2e-4
         self._made: dict[tuple[int, int], shapely.Geometry] = {}
 
-    def at(self, num: int, level: int) -> tuple[float, shapely.Geometry]:
+    def at(self, num: int, level: int) -> shapely.Geometry:
         """The erosion at ``t = top * num / 2**level``."""
         key = (num, level)
         if key not in self._made:
-            t = self.top * num / 2**level
-            g = shapely.buffer(self.section, -t, quad_segs=QUAD_SEGS)
+            g = shapely.buffer(self.section, -self.top * num / 2**level, quad_segs=QUAD_SEGS)
             shapely.prepare(g)
             self._made[key] = g
-        return self.top * num / 2**level, self._made[key]
+        return self._made[key]
 
 
 def signed_depths(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, erosions=None) -> tuple:
@@ -122,11 +124,10 @@ def signed_depths(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, eros
             num *= 2
             for m in np.unique(num + 1):
                 sel = num + 1 == m
-                _, g = er.at(int(m), k)
-                hit = shapely.intersects(g, placed[inside[sel]])
+                hit = shapely.intersects(er.at(int(m), k), placed[inside[sel]])
                 num[np.flatnonzero(sel)[hit]] += 1
         step = er.top / 2**levels
-        lo[inside] = num * step
+        lo[inside] = num * step * CHORD  # a hit proves t cos(π / 512) (QUAD_SEGS); a miss, less than t
         hi[inside] = (num + 1) * step
         low[start : start + CHUNK] = lo
         high[start : start + CHUNK] = hi
