@@ -71,7 +71,7 @@ class Crossing:
     they never meet, and it is minus their least distance) at driver angle ``theta`` (rad);
     ``bound`` the deepest it can be anywhere on the cycle (within the tolerance of ``depth``);
     ``evaluations`` poses measured; ``inradius`` the deepest any point can be inside ``b`` (mm): a
-    depth that reaches it goes right through ``b``'s thickest part."""
+    depth that reaches it has buried a point at ``b``'s deepest spot (a strip's mid-plane)."""
 
     depth: float
     theta: float

@@ -281,7 +281,7 @@ def judge_tray(study, files, bodies, links, ready, grid) -> tuple[dict, list]:
                 "the deepest point of the body inside the tray (its plastic and other cells) or the picked pot, "
                 "from their outline (mm): the least the body would have to move to leave it; the true deepest over "
                 "the continuous cycle, between depth_mm and at_most_mm (proof.crossing); deepest_possible_mm is "
-                "the most any point can be (half the tray's thickness: a body reaching it goes right through)"
+                "the most any point can be (half the tray's thickness: a body reaching it is buried to its mid-plane)"
             ),
         }
         how = (
@@ -290,7 +290,7 @@ def judge_tray(study, files, bodies, links, ready, grid) -> tuple[dict, list]:
             else f"comes within {-cross.depth:.3g} mm of the {fixed}"
         )
         if cross.depth >= cross.inradius - 0.05:  # as deep as a point can be inside it
-            how += f" (right through it: no point can lie deeper in it than {cross.inradius:.3g} mm)"
+            how += f" (to its middle: no point can lie deeper in it than {cross.inradius:.3g} mm)"
         req2["finding"] = (
             f"requirement 2 not met: {len(overlap)} pairs of the arm's bodies and the tray fail; the {body} {how} "
             f"at {math.degrees(cross.theta):.1f} deg of the driver (margin {signed - study.clearance:.3g} mm to the "
