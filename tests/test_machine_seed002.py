@@ -301,16 +301,20 @@ def test_the_pot_tray_is_judged_and_what_the_claw_does_there_is_stated(built):
     assert deep["at_most_mm"] - deep["depth_mm"] <= 0.05
     assert req2["margin_mm"] == pytest.approx(-deep["depth_mm"] - req2["required_mm"], abs=1e-6)
     assert f"crosses {deep['depth_mm']:.3g} mm into the tray" in req2["finding"]
-    claw = _section((folder / machine["bodies"]["claw"]["dxf"]).read_bytes(), "CUT")
     walls = _section((folder / tray["bodies"]["tray"]["dxf"]).read_bytes(), tray["bodies"]["tray"]["layer"])
     table = np.loadtxt(folder / machine["motion"], delimiter=",", skiprows=1)
     cols = (folder / machine["motion"]).read_text().splitlines()[0].split(",")
-    i = cols.index("claw.x_mm")
     still = np.zeros((3, len(table)))
-    posed = _relative_many(claw, table[:, i : i + 3].T, still)
-    reached = shapely.intersects(shapely.buffer(walls, -(deep["depth_mm"] - 0.05), quad_segs=64), posed)
-    beyond = shapely.intersects(shapely.buffer(walls, -(deep["at_most_mm"] + 0.01), quad_segs=64), posed)
-    assert reached.any() and not beyond.any()
+    # the claw reaches the tray's mid-plane; the arm stops 4 mm in, short of it (a bound that means something)
+    for body in ("claw", "arm"):
+        row = req2["overlaps"][f"{body} + tray"]
+        section = _section((folder / machine["bodies"][body]["dxf"]).read_bytes(), "CUT")
+        i = cols.index(f"{body}.x_mm")
+        posed = _relative_many(section, table[:, i : i + 3].T, still)
+        reached = shapely.intersects(shapely.buffer(walls, -(row["deepest_mm"] - 0.05), quad_segs=64), posed)
+        beyond = shapely.intersects(shapely.buffer(walls, -(row["deepest_at_most_mm"] + 0.01), quad_segs=64), posed)
+        assert reached.any() and not beyond.any(), body
+    assert req2["overlaps"]["claw + tray"]["deepest_mm"] == deep["depth_mm"]
     kinds = {frozenset(r["bodies"]): r["kind"] for r in tray["clearances"]}
     assert kinds[frozenset(("claw", "pot"))] == "working"
     assert kinds[frozenset(("carrier_2_front", "tray"))] == "axial gap"
