@@ -49,6 +49,7 @@ __all__ = [
     "Posed",
     "Samples",
     "closest_approach",
+    "cycle_samples",
     "least_of",
     "overlap_areas",
     "posed_sections",
@@ -271,6 +272,15 @@ def _origin_floor(a: Posed, b: Posed) -> float:
     return best
 
 
+def cycle_samples(theta, who: str) -> np.ndarray:
+    """``theta`` (rad) as the samples of one cycle a branch and bound starts from: a 1-D array of at
+    least two angles, increasing over less than one turn (else ``who`` says so)."""
+    theta = np.asarray(theta, dtype=float)
+    if theta.ndim != 1 or len(theta) < 2 or np.any(np.diff(theta) <= 0) or theta[-1] - theta[0] >= 2 * math.pi:
+        raise GeometryError(f"{who}: theta must increase over less than one turn")
+    return theta
+
+
 def split_intervals(t: np.ndarray, h: np.ndarray, open_: np.ndarray, room: np.ndarray, lip: float):
     """``(cut, mid)``: each open interval of the cyclic samples ``t`` (widths ``h``) cut into as many
     pieces as would settle it were the function no worse between its ends — ``room`` (mm) how far
@@ -299,9 +309,7 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     Overlapping bodies (a distance of 0 on the finest outlines) stop the search at once; two
     bodies of which neither moves (both speeds 0: a symmetric shaft turning in its bore, seen from
     the bore's frame) keep one distance, measured once on the sections."""
-    theta = np.asarray(theta, dtype=float)
-    if theta.ndim != 1 or len(theta) < 2 or np.any(np.diff(theta) <= 0) or theta[-1] - theta[0] >= 2 * math.pi:
-        raise GeometryError("closest_approach: theta must increase over less than one turn")
+    theta = cycle_samples(theta, "closest_approach")
     lip = float(a.speed + b.speed)
     if lip == 0.0:  # neither moves (a shaft in its bore seen from their frame): one pose tells all
         d = float(_distances(a, b, theta[:1])[0])

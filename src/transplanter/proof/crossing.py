@@ -48,6 +48,7 @@ from transplanter.proof.clearance import (
     CLEARANCE_REL_TOL,
     CLEARANCE_TOL_MM,
     Posed,
+    cycle_samples,
     posed_sections,
     relative,
     split_intervals,
@@ -103,8 +104,9 @@ class _Erosions:
 
 def signed_depths(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, erosions=None) -> tuple:
     """``(low, high)``: the signed depth ``s`` (module docstring) of ``a`` into ``b`` at each of
-    ``theta`` (rad) lies in ``[low, high]``, the two within ``tol`` mm where they overlap (equal
-    where they do not: minus the distance)."""
+    ``theta`` (rad) lies in ``[low, high]``, the two within ``tol`` mm and the erosions' chords
+    (``low`` is a hit's depth times :data:`CHORD`) where they overlap, equal where they do not: minus
+    the distance."""
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
     er = erosions if erosions is not None else _Erosions(b.section)
     low = np.empty(len(theta))
@@ -140,9 +142,7 @@ def deepest_crossing(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     docstring), to within ``tol`` mm or ``CLEARANCE_REL_TOL`` of it, whichever is larger. The
     figure returned is a lower bound of the true deepest (a pose where it is reached), ``bound``
     an upper one."""
-    theta = np.asarray(theta, dtype=float)
-    if theta.ndim != 1 or len(theta) < 2 or np.any(np.diff(theta) <= 0) or theta[-1] - theta[0] >= 2 * math.pi:
-        raise GeometryError("deepest_crossing: theta must increase over less than one turn")
+    theta = cycle_samples(theta, "deepest_crossing")
     lip = float(a.speed + b.speed)
     er = _Erosions(b.section)
     t = theta.copy()
@@ -173,7 +173,5 @@ def deepest_crossing(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
         hi = np.insert(hi, cut + 1, mh)
     else:
         raise GeometryError(f"deepest_crossing did not settle to {tol} mm in {MAX_ROUNDS} rounds")
-    k = int(np.argmax(lo))
-    h = np.diff(np.append(t, t[0] + 2 * math.pi))
-    bound = min(float(np.max(0.5 * (hi + np.roll(hi, -1) + lip * h))), er.top)
-    return Crossing(float(lo[k]), float(np.mod(t[k], 2 * math.pi)), max(bound, float(lo[k])), evaluations, er.inradius)
+    # settled: the last round's deepest pose and bounds are the answer
+    return Crossing(best, float(np.mod(t[k], 2 * math.pi)), max(float(up.max()), best), evaluations, er.inradius)
