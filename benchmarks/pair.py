@@ -6,10 +6,10 @@ and checks the three exports are byte-identical (all but the manifests, which re
 their part script lies in). Then, in this process, the part of it that is the design's own
 answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
 :meth:`ToothedPairStudy.cut_teeth`, median of 5) — and where the rest of the call goes,
-from one profiled in-process run: imports, the meshing proof on the outlines and on the re-read
-DXF and STL, making the shop files (DXF, STL, 3MF); the STEP (OpenCASCADE) and the plots are made
-in forked processes beside the proofs and the assembly (issue 46), so the profile cannot see
-them: their CPU is given as the profiled call's child processes' (with the profiler's overhead,
+from one profiled in-process run: imports, the meshing proof (once, on the re-read DXF, carried
+to the outlines and the STL), making the shop files (DXF, STL, 3MF); the STEP (OpenCASCADE) and
+the plots are made in forked processes beside the proof and the assembly (issue 46), so the
+profile cannot see them: their CPU is given as the profiled call's child processes' (with the profiler's overhead,
 which a fork inherits).
 
 Then the peer a user would pick instead, in the same run: ncgears 0.3.1's one-liner with the same
@@ -39,9 +39,10 @@ from pathlib import Path
 EXAMPLE = ["phi - 0.08*sin(2*phi)", "--teeth", "24", "--module", "1.5"]
 #: where the profiled call's time goes: (label, the functions whose cumulative time it is)
 STAGES = (
-    ("meshing proofs (outline, DXF, STL)", ("pair_proof.py", "mesh")),  # DXF/STL: with the STEP's wait
+    # the DXF meshed, carried to the outline and STL (issue 46; a source it cannot be carried to is meshed)
+    ("meshing proof (DXF, carried to outline, STL)", ("pair_proof.py", "mesh_once")),
     ("shop files made (DXF, STL, wire checks)", ("pair_assembly.py", "make")),
-    ("assembly (3MF made and re-read, drawing)", ("pair_assembly.py", "assemble")),
+    ("assembly (3MF made and re-read, drawing)", ("pair_assembly.py", "assemble")),  # with the STEP's wait
     ("teeth cut", ("toothed.py", "cut_teeth")),
 )
 

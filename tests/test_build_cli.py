@@ -207,13 +207,16 @@ def test_every_gear_and_cam_family_carries_its_meshing_proof(built):
     for name in ("gears_2_3", "gears_3_5"):
         meshing = seed002["parts"][name]["results"]["meshing"]
         assert set(meshing) >= {"outline", "dxf", "stl"}
-        for source in ("outline", "dxf", "stl"):
-            r = meshing[source]
-            # designed backlash: only the driving flanks touch, and the play follows the pitch
-            # curve's pressure deviation (the transmission error is a share of the backlash)
-            assert r["problems"] == [] and r["min_contacts"] >= 1 and r["contact_ratio"] > 1.2
-            assert r["max_penetration_mm2"] == 0.0
-            assert r["max_transmission_error_mm"] < 0.1 * meshing["backlash_target_mm"]
+        r = meshing["dxf"]
+        # designed backlash: only the driving flanks touch, and the play follows the pitch
+        # curve's pressure deviation (the transmission error is a share of the backlash)
+        assert r["problems"] == [] and r["min_contacts"] >= 1 and r["contact_ratio"] > 1.2
+        assert r["max_penetration_mm2"] == 0.0
+        assert r["max_transmission_error_mm"] < 0.1 * meshing["backlash_target_mm"]
+        for source in ("outline", "stl"):  # the DXF's proof carried: the same teeth within a µm
+            c = meshing[source]
+            assert c["problems"] == [] and c["carried_from"] == "dxf" and max(c["teeth_within_mm"]) <= 1e-3
+            assert meshing["min_clearance_mm"] <= c["clearance_at_least_mm"] < r["clearance_mm"]
         assert f"{name}.meshing.png" in seed002["parts"][name]["files"]
     cam = seed002["parts"]["swing_cam"]["results"]["follower_check"]
     assert set(cam) >= {"profile", "dxf", "stl"}
@@ -318,8 +321,9 @@ def test_check_command_catches_a_tampered_part(tmp_path, capsys, monkeypatch):
     fam = tmp_path / "out" / "small"
     assert cli.main(["check", "--run-script", str(fam)]) == 0
     out = capsys.readouterr().out
-    for source in ("dxf", "stl"):  # the shop files re-proved (the outline CSV is held to its digest)
-        assert f"pair [{source}]: overlap 0 mm² (fouling 0), TE max" in out
+    # the shop files re-proved: the DXF meshed, carried to the STL (the outline CSV is held to its digest)
+    assert "pair [dxf]: overlap 0 mm² (fouling 0), TE max" in out
+    assert "pair [stl]: the dxf's proof carried: teeth within" in out
     assert "pair [outline]" not in out
     path = fam / "pair.driven.dxf"
     moved = shapely.affinity.rotate(dxf.read_section(path.read_bytes()), 2.0, origin=(0, 0))  # 2 deg off

@@ -29,12 +29,18 @@ def test_an_elliptical_pair_from_the_cli_meshes_on_its_exports(tmp_path, capsys)
     for ext in (".dxf", ".stl", ".step"):
         assert {f"pair.driver{ext}", f"pair.driven{ext}"} <= set(rec["files"])
     assert "pair.assembly.3mf" in rec["files"]
-    # the proof: the pair meshed from its DXF and STL re-read from the bytes written (the ring
-    # test below re-runs it on the files with transplanter check)
-    for source in ("dxf", "stl"):
+    # the proof: the pair meshed once, from its DXF re-read from the bytes written, and carried to
+    # the STL and the outlines, whose teeth lie within a µm of it (the ring test below re-runs it
+    # on the files with transplanter check)
+    line = next(x for x in out.splitlines() if "meshing [dxf]: " in x)
+    assert "overlap 0 mm² (fouling 0)" in line
+    for source in ("outline", "stl"):
         line = next(x for x in out.splitlines() if f"meshing [{source}]: " in x)
-        assert "overlap 0 mm² (fouling 0)" in line
-        assert rec["results"]["meshing"][source]["problems"] == []
+        assert "the dxf's proof carried: teeth within 1 µm/1 µm" in line
+        carried = rec["results"]["meshing"][source]
+        assert carried["problems"] == [] and carried["carried_from"] == "dxf"
+        assert carried["clearance_at_least_mm"] >= rec["results"]["meshing"]["min_clearance_mm"]
+    assert rec["results"]["meshing"]["dxf"]["problems"] == []
     mesh = rec["results"]["meshing"]["dxf"]
     low, high = rec["results"]["meshing"]["backlash_band_mm"]
     assert low <= mesh["backlash_mm"][0] and mesh["backlash_mm"][1] <= high and mesh["contact_ratio"] > 1

@@ -4,6 +4,7 @@ where no fork is safe or the forked process dies."""
 
 import os
 import threading
+import time
 
 import pytest
 
@@ -24,6 +25,21 @@ def test_the_value_comes_back_from_the_fork_its_arguments_inherited_not_pickled(
     assert (locked, value) == (False, 42)
     if FORKS and _alone():
         assert pid != os.getpid()
+
+
+def test_a_second_fork_runs_beside_the_first_and_an_unasked_one_is_stopped():
+    """No pool and no thread here: the plots' fork starts while the STEP's still runs."""
+    alone = _alone()  # (a pytest-xdist worker runs threads of its own: then the work is done here)
+    with Beside(lambda: (time.sleep(0.3), os.getpid())[1]) as first:
+        assert _alone() == alone
+        with Beside(os.getpid) as second:
+            pids = {first.result(), second.result()}
+    if FORKS and alone:
+        assert len(pids) == 2 and os.getpid() not in pids
+    t = time.perf_counter()
+    with Beside(time.sleep, 30):
+        pass  # the caller went on without its value: the fork is killed, not waited for
+    assert time.perf_counter() - t < 5 and _alone()
 
 
 def test_an_error_of_the_work_is_raised_here():

@@ -4,7 +4,7 @@ gear pair's meshing, an incomplete pair's per phase, a re-read shop file's, and 
 
 from __future__ import annotations
 
-__all__ = ["fmt_um", "made_line", "mesh_line", "phases_line"]
+__all__ = ["carried_line", "fmt_um", "made_line", "mesh_line", "phases_line"]
 
 
 def fmt_um(mm: float) -> str:
@@ -13,7 +13,9 @@ def fmt_um(mm: float) -> str:
 
 
 def mesh_line(r: dict) -> str:
-    """One source's meshing check (``validate.mesh_check`` figures), in words."""
+    """One source's meshing check (``validate.mesh_check`` figures), or what it carries, in words."""
+    if "carried_from" in r:
+        return carried_line(r)
     clearance = ""
     if "clearance_mm" in r:
         clearance = f"clearance {fmt_um(r['clearance_mm'])} at {r['clearance_at_driver_deg']:.1f} deg, "
@@ -23,6 +25,16 @@ def mesh_line(r: dict) -> str:
         f"rms {fmt_um(r['rms_transmission_error_mm'])}, "
         f"backlash {fmt_um(r['backlash_mm'][0])}..{fmt_um(r['backlash_mm'][1])}, "
         f"{clearance}contact ratio {r['contact_ratio']:.3g}"
+    )
+
+
+def carried_line(r: dict) -> str:
+    """A source whose meshing is carried from the proved one (``PairProof.mesh_once``), in words."""
+    within = "/".join(fmt_um(w) for w in r["teeth_within_mm"])
+    return (
+        f"the {r['carried_from']}'s proof carried: teeth within {within} of the {r['carried_from']}'s "
+        f"(driver/driven), clearance at least {fmt_um(r['clearance_at_least_mm'])} at "
+        f"{r['clearance_at_driver_deg']:.1f} deg"
     )
 
 

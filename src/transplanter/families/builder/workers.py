@@ -65,16 +65,28 @@ _BESIDE: dict[int, tuple[Callable[..., Any], tuple]] = {}
 _KEYS = itertools.count()
 
 
-def _run_beside(key: int):
+def _run_beside(key: int, conn) -> None:
     fn, args = _BESIDE[key]
-    return fn(*args)
+    try:
+        out: tuple[str, Any] = ("value", fn(*args))
+    except BaseException as exc:  # the work's error, raised in the parent
+        out = ("error", exc)
+    try:
+        conn.send(out)
+    except Exception as exc:  # a value or error that does not pickle: said, not lost
+        conn.send(("error", TransplanterError(f"work beside the build could not return: {type(exc).__name__}: {exc}")))
+    finally:
+        conn.close()
 
 
 class Beside:
     """``fn(*args)`` run in a forked process beside what this one does next (issue 46: the STEP
-    beside the meshing proofs); :meth:`result` waits for its value (pickled back; an exception it
-    raises is raised here). The arguments are inherited by the fork, not pickled (a part's solid
-    is not picklable).
+    beside the meshing proofs, the plots beside the assembly); :meth:`result` waits for its value
+    (pickled back through a pipe; an exception it raises is raised here). The arguments are
+    inherited by the fork, not pickled (a part's solid is not picklable).
+
+    The fork is a bare process and a pipe — no pool, so no thread is started here and another
+    ``Beside`` may fork while this one runs (the plots beside the STEP).
 
     The same call, the same value: the work runs in this process instead — when :meth:`result`
     is asked — where no fork can be made safely (no ``fork`` start method, other threads running,
@@ -85,44 +97,54 @@ class Beside:
         import multiprocessing
 
         self._call = (fn, args)
-        self._pool = self._future = None
+        self._proc = self._conn = None
         if (
             "fork" not in multiprocessing.get_all_start_methods()
             or threading.active_count() > 1
             or multiprocessing.current_process().daemon  # a daemonic process may have no children
         ):
             return
+        ctx = multiprocessing.get_context("fork")
         key = next(_KEYS)
         _BESIDE[key] = self._call
-        try:
-            self._pool = executor(1)
-            self._future = self._pool.submit(_run_beside, key)  # forks here, with the work in _BESIDE
+        receive, send = ctx.Pipe(duplex=False)
+        try:  # a daemon: ended with this process, and itself without children
+            proc = ctx.Process(target=_run_beside, args=(key, send), daemon=True)
+            proc.start()  # forks here, with the work in _BESIDE
+            self._proc, self._conn = proc, receive
         except OSError:  # no process to be had (limits): the work is done here, when asked
-            self._close()
+            receive.close()
         finally:
+            send.close()  # the fork's end; this process keeps only the reading end
             del _BESIDE[key]
 
     def __enter__(self) -> Beside:
         return self
 
     def __exit__(self, *exc) -> None:
-        self._close()  # a forked process not asked for its value (the caller failed) is stopped
+        self._close(stop=True)  # a forked process not asked for its value (the caller failed) is stopped
 
     def result(self):
         """The work's value (waiting for the forked process, or doing it here)."""
-        from concurrent.futures.process import BrokenProcessPool
-
         fn, args = self._call
-        if self._future is None:
+        if self._conn is None:
             return fn(*args)
         try:
-            return self._future.result()
-        except BrokenProcessPool:  # the process died (memory, a signal): the same work, here
+            kind, value = self._conn.recv()
+        except (EOFError, OSError):  # the process died (memory, a signal): the same work, here
             return fn(*args)
         finally:
             self._close()
+        if kind == "error":
+            raise value
+        return value
 
-    def _close(self) -> None:
-        if self._pool is not None:
-            self._pool.shutdown(wait=True, cancel_futures=True)
-        self._pool = self._future = None
+    def _close(self, stop: bool = False) -> None:
+        if self._conn is not None:
+            self._conn.close()
+        if self._proc is not None:
+            if stop:
+                self._proc.kill()
+            self._proc.join()  # answered (or died): on its way out
+            self._proc.close()
+        self._proc = self._conn = None

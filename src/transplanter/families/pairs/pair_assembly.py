@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -292,19 +293,15 @@ def assemble(
     dxf: MeshReport,
     min_clearance: float | None,
     train: TrainHook | None,
-    written: dict[str, tuple[dict[str, bytes], dict]] | None = None,
+    written: Callable[[], dict[str, tuple[dict[str, bytes], dict]]] | None = None,
 ) -> tuple[dict, dict[str, bytes], dict]:
     """The assembly record (``dxf``: the proof on the re-read DXFs), its files (3MF, STEP,
-    motion, drawing) and each role's STEP results (``written``: the STEPs :func:`steps` wrote,
-    or None to write them here)."""
+    motion, drawing) and each role's STEP results (``written``: asked last, for the STEPs
+    :func:`steps` wrote beside — the assembly is made while they are written —, or None to
+    write them here)."""
     record = _record(cut, made, dxf, min_clearance, train)
-    record["model"], out = assembly_file(cut.name, _placed(record, made.parts, bodies(cut.name, train), train))
-    if written is None:
-        written = steps(made)
-    for files, _ in written.values():
-        out.update(files)
-    steps_done = {role: res for role, (_, res) in written.items()}
-    out[f"{cut.name}.motion.csv"] = _motion_csv(cut.pair)
+    record["model"], model = assembly_file(cut.name, _placed(record, made.parts, bodies(cut.name, train), train))
+    out = {f"{cut.name}.motion.csv": _motion_csv(cut.pair)}
     # what poses a machine built on the pair: the meshing measured on the re-read DXFs
     out[f"{cut.name}.dxf_meshing.csv"] = meshing_csv(dxf)
     a = record
@@ -325,4 +322,6 @@ def assemble(
             "timing marks meet at the start contact",
         ),
     )
-    return record, out, steps_done
+    done = steps(made) if written is None else written()
+    step_files = {name: data for files, _ in done.values() for name, data in files.items()}
+    return record, model | step_files | out, {role: res for role, (_, res) in done.items()}

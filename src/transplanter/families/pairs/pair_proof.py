@@ -21,22 +21,52 @@ import shapely
 
 from transplanter.core import heap
 from transplanter.core.errors import ExportError
-from transplanter.core.precision import rounded
+from transplanter.core.precision import rounded, significant
 from transplanter.core.tolerances import PENETRATION_TOL, SHOP_OVERLAP_MM2
 from transplanter.geometry.backlash import backlash_band, tolerance_budget
 from transplanter.geometry.pitch import GearPair
-from transplanter.proof import validate
+from transplanter.proof import sameness, validate
 from transplanter.proof.meshing import MeshReport
 from transplanter.report import plots
 from transplanter.shop import formats
 from transplanter.shop.export import csv_array
 
-__all__ = ["PairProof", "TrainHook", "screen_verdict", "SOURCES", "SHOP_SOURCES"]
+__all__ = ["Carried", "PairProof", "TrainHook", "screen_verdict", "SOURCES", "SHOP_SOURCES"]
 
 #: the sources a pair is meshed from: the generated outlines, the DXF and the STL's mid-plane section
 SOURCES = ("outline", "dxf", "stl")
 #: what a shop receives: the sources ``check`` re-proves on the files as found
 SHOP_SOURCES = ("dxf", "stl")
+
+
+@dataclass(frozen=True)
+class Carried:
+    """A source's meshing carried from the proved source's (:meth:`PairProof.mesh_once`): its
+    driver's and driven's teeth lie within ``within_mm`` of the proved ones (both ways,
+    :func:`~transplanter.proof.sameness.within`), so placed as the proved pair is at every position
+    of its proof, its gears are no closer than the proved mid-play clearance less their sum."""
+
+    #: the source whose meshing proof is carried ("dxf")
+    proved: str
+    #: (driver, driven): how far this source's teeth lie from the proved source's at most, mm
+    within_mm: tuple[float, float]
+    #: the proved source's smallest mid-play clearance (mm) and the driver angle there (deg)
+    clearance_mm: float
+    at_deg: float
+
+    @property
+    def clearance_at_least(self) -> float:
+        """The smallest gap this source's gears can have at the proved pair's positions, mm."""
+        return self.clearance_mm - sum(self.within_mm)
+
+    def summary(self) -> dict:
+        """The figures it carries (mm, deg)."""
+        return {
+            "carried_from": self.proved,
+            "teeth_within_mm": [significant(w) for w in self.within_mm],
+            "clearance_at_least_mm": significant(self.clearance_at_least),
+            "clearance_at_driver_deg": round(self.at_deg, 4),
+        }
 
 
 @runtime_checkable
@@ -112,10 +142,10 @@ class PairProof:
         a pair cut without backlash (its flanks touch by design)."""
         return tolerance_budget(self.tolerance) / 2 if self.backlash > 0 else None
 
-    def mesh(self, files: dict[str, bytes], sources=SOURCES) -> dict:
-        """Mesh the pair as found in ``files`` (file names → bytes) for each source present;
-        ``{source: MeshReport}``, or the reason where a file cannot be read."""
-        out, sections = {}, {}
+    def sections(self, files: dict[str, bytes], sources=SOURCES) -> tuple[dict, dict]:
+        """Each present source's (driver, driven) sections as read from ``files`` (file names →
+        bytes), and ``{source: reason}`` for those whose files cannot be read."""
+        sections, unreadable = {}, {}
         for source in sources:
             suffix = "outline.csv" if source == "outline" else source
             names = [f"{self.name}.{role}.{suffix}" for role in ("driver", "driven")]
@@ -126,8 +156,50 @@ class PairProof:
                     formats.section_of(n, files[n], internal) for n, internal in zip(names, self.internal, strict=True)
                 ]
             except ExportError as exc:
-                out[source] = str(exc)
+                unreadable[source] = str(exc)
+        return sections, unreadable
 
+    def mesh(self, files: dict[str, bytes], sources=SOURCES) -> dict:
+        """Mesh the pair as found in ``files`` (file names → bytes) for each source present;
+        ``{source: MeshReport}``, or the reason where a file cannot be read."""
+        sections, out = self.sections(files, sources)
+        return out | self._checked(sections)
+
+    def mesh_once(self, files: dict[str, bytes], sources=SOURCES, proved: str = "dxf") -> dict:
+        """Mesh ``proved`` (the DXF a shop cuts, re-read) and carry its proof to the other sources
+        present whose teeth lie within a certified distance of its own (:mod:`~transplanter.proof.
+        sameness`): ``{source: MeshReport | Carried}``, or the reason a file cannot be read.
+
+        What is carried is the clearance; the free play, transmission error and contact ratio are
+        the proved source's. A source is meshed on its own instead where nothing can be carried:
+        the proved source failing, a pair cut without backlash (its flanks touch by design: no gap
+        to carry), a floor on the free play at every position (``min_backlash``: a play is not
+        carried by a distance, so each file shows it), a finding (``must_mesh`` False), teeth
+        farther apart than the ladder, or a carried gap below ``min_clearance``."""
+        sections, out = self.sections(files, sources)
+        if proved not in sections:
+            return out | self._checked(sections)
+        rep = out[proved] = self._checked({proved: sections[proved]})[proved]
+        gap = rep.clearance_min
+        carry = (
+            self.must_mesh
+            and self.min_backlash is None
+            and self.min_clearance is not None
+            and gap is not None
+            and not self.problems(rep)
+        )
+        alone = {}
+        for source, polys in sections.items():
+            if source == proved:
+                continue
+            r = [sameness.within(a, b, i) for a, b, i in zip(polys, sections[proved], self.internal, strict=True)]
+            if not carry or None in r or gap.value - sum(r) < self.min_clearance:
+                alone[source] = polys
+            else:
+                out[source] = Carried(proved, (r[0], r[1]), gap.value, gap.at_deg)
+        return out | self._checked(alone)
+
+    def _checked(self, sections: dict) -> dict:
         def check(polys):
             # every gap, and the extremes refined between the samples (meshing module docstring) —
             # not for a finding, whose overlaps are the result
@@ -135,11 +207,15 @@ class PairProof:
                 self.pair, *polys, self.module, steps=self.steps, teeth=self.driver_teeth, refine=self.must_mesh
             )
 
-        # the sources side by side: numpy, GEOS and the k-d tree release the GIL for most of a check
-        with ThreadPoolExecutor(max_workers=min(2, max(1, len(sections)))) as pool:
-            done = dict(zip(sections, pool.map(check, sections.values()), strict=True))
+        if not sections:
+            return {}
+        if len(sections) == 1:
+            done = {k: check(v) for k, v in sections.items()}
+        else:  # the sources side by side: numpy, GEOS and the k-d tree release the GIL for most of a check
+            with ThreadPoolExecutor(max_workers=2) as pool:
+                done = dict(zip(sections, pool.map(check, sections.values()), strict=True))
         heap.trim(0)  # the threads' arenas: their vertex/edge pairs would stay resident under what follows
-        return out | done
+        return done
 
     def problems(self, report: MeshReport) -> list[str]:
         """What keeps ``report``'s pair from meshing as designed, in words (empty: it does)."""
@@ -174,6 +250,9 @@ class PairProof:
         results.update(unreadable)
         trains = {}
         for source, rep in sorted(readable.items()):
+            if isinstance(rep, Carried):  # its gap is above min_clearance, or it was meshed on its own
+                results[source] = rep.summary() | {"problems": []}
+                continue
             res = rep.summary()
             found = self.problems(rep)
             res["problems"] = found
@@ -182,11 +261,12 @@ class PairProof:
                 trains[source], res["train"], more = self.train.prove(source, rep, found, self.module)
                 problems += more
             results[source] = res
-        shown = trains.get("stl", trains.get("outline"))
+        shown = trains.get("stl", trains.get("dxf", trains.get("outline")))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
+        meshed = {k: v for k, v in readable.items() if not isinstance(v, Carried)}
 
         def plot() -> dict[str, bytes]:
-            fig = plots.meshing_figure(readable, self.name, shown, note, band=band, clearance=self.min_clearance)
+            fig = plots.meshing_figure(meshed, self.name, shown, note, band=band, clearance=self.min_clearance)
             return plots.figure_files(fig, f"{self.name}.meshing")
 
         return results, plot, problems
@@ -221,7 +301,11 @@ def screen_verdict(meshing: dict, problems: list[str]) -> str:
     if problems:
         return "confirmed by the meshing proof: " + "; ".join(problems)
     # the shop files first: on a tie the verdict names the file a shop cuts from
-    shown = [(src, meshing[src]) for src in ("dxf", "stl", "outline") if isinstance(meshing.get(src), dict)]
+    shown = [
+        (src, meshing[src])
+        for src in ("dxf", "stl", "outline")
+        if isinstance(meshing.get(src), dict) and "backlash_mm" in meshing[src]  # meshed, not carried
+    ]
     worst = min(shown, key=lambda s: s[1].get("clearance_mm", math.inf), default=None)
     if worst is None:
         return "not judged: no source was meshed"

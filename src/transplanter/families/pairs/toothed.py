@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -13,7 +14,7 @@ from transplanter.families.builder.study import Built, Checked, StudyDefaults
 from transplanter.families.builder.workers import Beside
 from transplanter.families.pairs import pair_assembly
 from transplanter.families.pairs.pair_cut import Sized, cut, rejected_alternatives, size
-from transplanter.families.pairs.pair_proof import SHOP_SOURCES, SOURCES, PairProof, TrainHook, screen_verdict
+from transplanter.families.pairs.pair_proof import SHOP_SOURCES, SOURCES, Carried, PairProof, TrainHook, screen_verdict
 from transplanter.geometry.backlash import design_backlash
 from transplanter.geometry.cutter import Cutter
 from transplanter.geometry.pitch import GearPair
@@ -37,14 +38,15 @@ class ToothedPairStudy(StudyDefaults):
     ``rejected`` lists ``(label, teeth, cutter)`` alternatives (e.g. a published module) that
     are tried and must fail: their errors go into the manifest as findings.
 
-    The pair is then *meshed* (``meshing.mesh_check``): the generated outlines, and with
-    ``making`` the DXF and the mid-plane section of the STL re-read from their bytes, turn
-    through a full cycle at the design ratio; the report carries penetration, fouling,
-    transmission error, backlash against ``backlash.backlash_band`` and contact ratio, and a
-    plot. A pair that does not mesh fails the part, unless ``must_mesh`` is False: then the
-    study is a finding — figures and plot are written, the shop files (DXF, STL) are not.
-    With ``train`` (the ``DifferentialTrain`` the pair drives) the train is rebuilt from each
-    source's meshing and its needle-tip path compared with the designed one.
+    The pair is then *meshed* (``meshing.mesh_check``) through a full cycle at the design ratio:
+    penetration, fouling, transmission error, backlash against ``backlash.backlash_band``, the
+    mid-play clearance, contact ratio, a plot. With ``making`` it is meshed once, on the DXF as
+    re-read, and the proof carried to the outlines and the STL's mid-plane section whose teeth lie
+    within a certified distance of it (:meth:`PairProof.mesh_once`; a source it cannot be carried
+    to is meshed); without, the outlines are meshed. A pair that does not mesh fails the part,
+    unless ``must_mesh`` is False: then the study is a finding — every source meshed, figures and
+    plot written, the shop files (DXF, STL) not. With ``train`` (the ``DifferentialTrain`` the
+    pair drives) the train is rebuilt from each meshed source and its needle tip compared.
 
     **Backlash and tolerance by design.** ``backlash`` (mm, circumferential at the pitch
     point; None = the ISO/TR 10064-2 default from module and centre distance, see
@@ -77,11 +79,12 @@ class ToothedPairStudy(StudyDefaults):
     the 3MF places each on the carrier. This study knows no train and no paper.
 
     **Stations.** :meth:`build` runs the pair's journey as stations that pass frozen values:
-    size (:func:`pair_cut.size`) → cut and gate (:func:`pair_cut.cut`, a ``CutPair``) → prove
-    the outlines (:class:`pair_proof.PairProof`) → make (:func:`pair_assembly.make`) → prove the
-    DXF and STL → assemble (:func:`pair_assembly.assemble`) → record. Forked processes
-    (``workers.Beside``) write the STEPs beside the DXF and STL proof and draw the plots beside the
-    assembly: the same files, each made once.
+    size (:func:`pair_cut.size`) → cut and gate (:func:`pair_cut.cut`, a ``CutPair``) → make
+    (:func:`pair_assembly.make`) → prove the DXF, carried to the outlines and the STL
+    (:class:`pair_proof.PairProof`) → assemble (:func:`pair_assembly.assemble`) → record (a
+    finding, or a pair without ``making``, proves its outlines before making). Forked processes
+    (``workers.Beside``) write the STEPs beside the proof and draw the plots beside the assembly:
+    the same files, each made once.
     """
 
     cost = 10
@@ -200,7 +203,8 @@ class ToothedPairStudy(StudyDefaults):
 
     def build(self, out: Path) -> Built:
         """Teeth of both gears (outlines CSV, JSON, plot); with ``making`` the shop files with
-        timing marks, the assembly data and 3MF, and the meshing check of outline, DXF and STL;
+        timing marks, the assembly data and 3MF, and the meshing proof on the DXF carried to the
+        outline and STL;
         rejected alternatives as findings (see the class docstring)."""
         sized, proof = self.sized, self.proof
         if self.train is not None and abs(self.train.centre_distance - sized.pair.centre_distance) > 1e-9:
@@ -216,28 +220,35 @@ class ToothedPairStudy(StudyDefaults):
             results["interference"] = made_pair.interference(proof.names)
         results.update(made_pair.gear_results())
         files = made_pair.outline_files()
-        reports = proof.mesh(files, ("outline",))
-        problems = proof.problems(reports["outline"])
+        once = self.must_mesh and self.making is not None
+        reports = {} if once else proof.mesh(files, ("outline",))
+        problems = [] if once else proof.problems(reports["outline"])
         if problems and self.must_mesh:
             raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
         if problems:
             results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
-        elif self.making is not None:
-            made = pair_assembly.make(made_pair, self.making, self.train, tuple(self.notes))
-            for role, res in made.results.items():
-                results[role]["made"] = res
-            files.update(made.files)
-            # the STEPs (OpenCASCADE) are written from the made parts in a process of their own,
-            # beside the proof on the re-read DXF and STL (the same files; issue 46)
-            with Beside(pair_assembly.steps, made) as written:
-                reports.update(proof.mesh(files, ("dxf", "stl")))
-                step_files = written.result()
-        meshing, meshing_plot, problems = proof.results(reports)
-        # the plots (matplotlib) are drawn in a process of their own, beside the assembly (issue 46)
-        with Beside(lambda: meshing_plot() | made_pair.teeth_plot()) as drawn:
+        with contextlib.ExitStack() as beside:
+            if not problems and self.making is not None:
+                made = pair_assembly.make(made_pair, self.making, self.train, tuple(self.notes))
+                for role, res in made.results.items():
+                    results[role]["made"] = res
+                files.update(made.files)
+                # the STEPs (OpenCASCADE) are written from the made parts in a process of their own,
+                # beside the meshing proof: once, on the re-read DXF, carried to the outline and the
+                # STL where their teeth are the DXF's within a certified distance (issue 46)
+                written = beside.enter_context(Beside(pair_assembly.steps, made))
+                reports.update(proof.mesh_once(files) if once else proof.mesh(files, ("dxf", "stl")))
+                outline = reports.get("outline")
+                problems = [] if isinstance(outline, Carried | str) else proof.problems(outline)
+                if problems:  # the design itself does not mesh: said as before the files were made
+                    raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
+            meshing, meshing_plot, problems = proof.results(reports)
+            # the plots (matplotlib) are drawn in a process of their own, beside the assembly and
+            # the STEPs still being written (issue 46)
+            drawn = beside.enter_context(Beside(lambda: meshing_plot() | made_pair.teeth_plot()))
             if self.making is not None and not results.get("shop_files"):
                 results["assembly"], more, steps = pair_assembly.assemble(
-                    made_pair, made, reports["dxf"], proof.min_clearance, self.train, step_files
+                    made_pair, made, reports["dxf"], proof.min_clearance, self.train, written.result
                 )
                 for role, res in steps.items():
                     results[role]["made"]["step"] = res
@@ -266,12 +277,13 @@ class ToothedPairStudy(StudyDefaults):
         return Built({"kind": "toothed_pair", "parameters": params, "results": results}, files)
 
     def check(self, files: dict[str, bytes]) -> Checked:
-        """Re-run the meshing checks on this part's shop files as found on disk — the DXF and the
-        STL (the outline CSV is the design's own record, proved at the build and held to its
-        digest); say so when a DXF is the design turned about its axis. A pair built as a finding
+        """Re-run the meshing proof on this part's shop files as found on disk — on the DXF, carried
+        to the STL as the build does (the outline CSV is the design's own record, proved at the
+        build and held to its digest); say so when a DXF is the design turned about its axis. A pair built as a finding
         (``must_mesh`` False, no shop files) is checked on its outline and expected not to mesh."""
         proof = self.proof
-        reports = proof.mesh(files, SHOP_SOURCES if self.must_mesh and self.making is not None else SOURCES)
+        once = self.must_mesh and self.making is not None
+        reports = proof.mesh_once(files, SHOP_SOURCES) if once else proof.mesh(files, SOURCES)
         results, _, problems = proof.results(reports)
         problems += pair_assembly.meshing_table_problems(files, f"{self.name}.dxf_meshing.csv", reports.get("dxf"))
         made, more = self._check_made(files)
