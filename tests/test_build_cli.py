@@ -673,18 +673,22 @@ def _worker_settings() -> dict:
     return {"OMP_NUM_THREADS": os.environ.get("OMP_NUM_THREADS"), **{k: dask.config.get(k) for k in keys}}
 
 
+def _steals(dask_scheduler) -> bool:
+    return "stealing" in dask_scheduler.extensions
+
+
 def test_a_parallel_search_ships_its_cost_function_once_and_batches_the_candidates():
     """Issue 46: the problem is scattered to the workers once per run, not pickled per task or per
     generation, and each generation goes out in batches shrinking to one candidate (the results in
     order); the local workers run with ``WORKER_CONFIG``'s settings (spawned, not forked: they get
     them from their nanny): one BLAS thread each, no profiler, the event loop's tick and memory
-    monitor slowed, no spilling."""
+    monitor slowed, no spilling; the local scheduler steals no work (the batches balance it)."""
     from transplanter.design import optimise as search
 
     problem = search.Problem("bowl", (("x", -2.0, 2.0), ("y", -2.0, 2.0)), _CountedCost())
     with search._evaluator(2, None) as run:
         seen = run.client.run(_worker_settings)
-        assert len(seen) == 2
+        assert len(seen) == 2 and not run.client.run_on_scheduler(_steals)
         for settings in seen.values():
             assert settings == {
                 "OMP_NUM_THREADS": "1",
