@@ -28,8 +28,17 @@ def built(transplanter_built) -> Path:
     return transplanter_built
 
 
+@pytest.fixture
+def browser(chromium):
+    """The run's headless Chromium, its console log emptied of what earlier tests' pages said
+    (each test reads the errors of its own page only, whatever ran before it)."""
+    chromium.get("about:blank")
+    chromium.get_log("browser")
+    return chromium
+
+
 @pytest.fixture(scope="session")
-def browser(tmp_path_factory):
+def chromium(tmp_path_factory):
     """Headless Chromium driven by Selenium (Debian's chromium and chromium-driver, which
     ``.ci/run`` installs); the test is skipped where they are not installed."""
     import shutil
