@@ -188,15 +188,15 @@ class PairProof:
             and gap is not None
             and not self.problems(rep)
         )
-        alone = {}
-        for source, polys in sections.items():
-            if source == proved:
+        alone = {source: polys for source, polys in sections.items() if source != proved}
+        for source, polys in list(alone.items()) if carry else ():
+            try:
+                r = [sameness.within(a, b, i) for a, b, i in zip(polys, sections[proved], self.internal, strict=True)]
+            except ValueError:  # a ring without its toothed hole (a damaged file): its own proof says what
                 continue
-            r = [sameness.within(a, b, i) for a, b, i in zip(polys, sections[proved], self.internal, strict=True)]
-            if not carry or None in r or gap.value - sum(r) < self.min_clearance:
-                alone[source] = polys
-            else:
+            if None not in r and gap.value - sum(r) >= self.min_clearance:
                 out[source] = Carried(proved, (r[0], r[1]), gap.value, gap.at_deg)
+                del alone[source]
         return out | self._checked(alone)
 
     def _checked(self, sections: dict) -> dict:
