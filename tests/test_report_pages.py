@@ -189,6 +189,22 @@ def test_a_pair_withheld_as_a_finding_says_so_first_with_its_problems_counted():
     assert verdicts["pair"] == "withheld — meshing on dxf, stl: 4 problems (see meshing in the results)"
 
 
+def test_a_source_the_proof_was_carried_to_is_said_apart_with_its_distance():
+    """Issue 46: the DXF meshed, the outline and STL carried to by their teeth's distance — the
+    verdict says what was proved on which (the free play on the DXF, the gaps on all), and the
+    key table's gap and overlap are the meshed source's."""
+    rec = _gear_pair("pair", [])
+    carried = {"carried_from": "dxf", "teeth_within_mm": [0.001, 0.0005], "clearance_at_least_mm": 0.0385}
+    rec["results"]["meshing"] |= {"stl": carried | {"problems": []}, "outline": carried | {"problems": []}}
+    page = _Page(family_report(_manifest({"pair": rec})).decode())
+    verdicts = {r[0][1]: r[2][1] for r in page.tables[0]["rows"][1:]}
+    assert verdicts["pair"] == (
+        "built — meshing proved on dxf: no overlap, free play inside the band, every gap kept; "
+        "outline, stl within 1 µm of it, every gap kept"
+    )
+    assert page.key("pair")["smallest gap at mid-play"] == ("0.04", "mm")
+
+
 def test_one_unit_per_column_never_empty_where_a_quantity_has_one_never_in_a_value():
     """Units in their own column, read from the key's suffix — compound units too (kg·mm, N·m,
     mm/s, rad/s), a table's unit on its entries, a ``<key>_unit`` beside its key — and records

@@ -111,7 +111,12 @@ def _meshing_proof(meshing, shown: str, what: str = "meshing") -> list[str]:
     if problems:
         where = ", ".join(s for s, r in src.items() if r["problems"])
         return [f"{what} on {where}: {problems} problem{'s' * (problems != 1)} (see {what} in the results)"]
-    return [f"{what} proved on {', '.join(src)}: {shown}"]
+    # a source the proof was carried to (PairProof.mesh_once) is said apart: its gaps only
+    carried = [s for s, r in src.items() if "carried_from" in r]
+    meshed = [s for s in src if s not in carried]
+    within = _extreme([w for s in carried for w in _list(src[s].get("teeth_within_mm"))], max)
+    also = f"; {', '.join(carried)} within {number(within * 1e3)} µm of it, every gap kept" if within else ""
+    return [f"{what} proved on {', '.join(meshed)}: {shown}{also}"]
 
 
 def _arm(res: dict, par: dict) -> tuple[list[Row], list[str]]:
