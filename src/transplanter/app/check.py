@@ -67,9 +67,7 @@ def run(args: argparse.Namespace) -> int:
             for source, r in sorted((k, v) for k, v in res.items() if isinstance(v, dict)):
                 if "error" in r:  # an unreadable file: reported with the problems below
                     continue
-                if "carried_from" in r:
-                    line = mesh_line(r)
-                elif "max_penetration_mm2" in r:
+                if "max_penetration_mm2" in r or "carried_from" in r:  # meshed, or the DXF's proof carried
                     line = phases_line(r) if "dwell" in r or "motion" in r else mesh_line(r)
                     if "train" in r:
                         line += f", train tip deviation {fmt_um(r['train']['max_tip_deviation_mm'])}"

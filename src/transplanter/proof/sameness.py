@@ -56,8 +56,6 @@ def within(a: shapely.Polygon, b: shapely.Polygon, internal: bool, ladder=LADDER
     """The smallest rung ``r`` of ``ladder`` (mm) at which each section's material near the teeth
     (:func:`teeth_region`) lies inside the other's grown by ``r``; None if none does."""
     ta, tb = teeth_region(a, internal), teeth_region(b, internal)
-    shapely.prepare(ta)
-    shapely.prepare(tb)
 
     def holds(r: float) -> bool:
         return bool(shapely.covers(shapely.buffer(tb, r), ta) and shapely.covers(shapely.buffer(ta, r), tb))

@@ -238,9 +238,10 @@ class ToothedPairStudy(StudyDefaults):
                 # STL where their teeth are the DXF's within a certified distance (issue 46)
                 written = beside.enter_context(Beside(pair_assembly.steps, made))
                 reports.update(proof.mesh_once(files) if once else proof.mesh(files, ("dxf", "stl")))
+                # the outline meshed on its own (the DXF failed) is the design's gate, as before making
                 outline = reports.get("outline")
-                problems = [] if isinstance(outline, Carried | str) else proof.problems(outline)
-                if problems:  # the design itself does not mesh: said as before the files were made
+                problems = proof.problems(outline) if once and not isinstance(outline, Carried | str) else []
+                if problems:
                     raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
             meshing, meshing_plot, problems = proof.results(reports)
             # the plots (matplotlib) are drawn in a process of their own, beside the assembly and
