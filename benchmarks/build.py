@@ -161,7 +161,10 @@ def largest_step_peak(exports: Path) -> tuple[str, float]:
 
 
 def main() -> None:
+    from _exports import as_installed
+
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    as_installed()  # transplanter's modules compiled, as pip installs them
     with tempfile.TemporaryDirectory() as tmp:
         t_par, m_par, _ = build(Path(tmp) / "default")
         t_ser, m_ser, log = build(Path(tmp) / "serial", "--jobs", "1")

@@ -102,6 +102,8 @@ def overheads(workers: int, tasks: int = 400) -> tuple[float, float, float]:
 
 
 def main() -> None:
+    from _exports import as_installed
+
     ap = argparse.ArgumentParser()
     ap.add_argument("script", nargs="?", default="parts/_seed004.py")
     ap.add_argument("--generations", type=int, default=4)
@@ -110,6 +112,7 @@ def main() -> None:
         "--no-before", action="store_true", help="skip the run on 2 workers as the second pass ran it (the baseline)"
     )
     args = ap.parse_args()
+    as_installed()  # transplanter's modules compiled, as pip installs them (each worker imports them)
     problem, times = _timed(run_script(args.script)["problem"]())
     cores = os.cpu_count() or 1
     kwargs = {"seed": 1, "maxiter": args.generations, "popsize": args.popsize, "updating": "deferred"}

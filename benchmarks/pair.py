@@ -98,9 +98,12 @@ def teeth_time() -> float:
 
 
 def main() -> None:
+    from _exports import as_installed
+
     ap = argparse.ArgumentParser()
     ap.add_argument("--no-peer", action="store_true", help="skip installing and running ncgears")
     args = ap.parse_args()
+    as_installed()  # transplanter's modules compiled, as pip installs them (the peer's are)
     with tempfile.TemporaryDirectory() as tmp:
         exe = None if args.no_peer else peer()
         runs, theirs = [], []

@@ -354,7 +354,8 @@ def test_a_built_page_leads_with_its_verdicts_and_links_every_legible_figure(bui
 
 def test_a_finding_of_a_built_machine_reads_as_withheld_not_as_a_proof_passed():
     """A machine built with a finding (the roller leaves the cam): its finding is amber like a
-    withheld part's, the part's state stays green (built)."""
+    withheld part's, in its section and in the page's first table, where the verdict says it
+    first; the part's state stays green (built)."""
     rec = {
         "kind": "machine",
         "files": {},
@@ -365,3 +366,10 @@ def test_a_finding_of_a_built_machine_reads_as_withheld_not_as_a_proof_passed():
     }
     page = _Page(family_report(_manifest({"machine": rec})).decode())
     assert page.parts["machine"][:2] == ["p.proof withheld", "p.state built"]
+    # and so in the page's first table, where the finding is what the verdict says first
+    (row,) = [r for r in page.tables[0]["rows"][1:] if r[0][1] == "machine"]
+    assert row[2] == ("withheld", "built — finding: the roller leaves the cam")
+    rec["results"]["machine"] = {}  # without it: a built machine's verdict, green
+    page = _Page(family_report(_manifest({"machine": rec})).decode())
+    (row,) = [r for r in page.tables[0]["rows"][1:] if r[0][1] == "machine"]
+    assert row[2][0] == "built"

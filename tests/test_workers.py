@@ -90,3 +90,49 @@ def test_a_daemonic_process_does_the_work_itself():
         child.kill()
         child.join()
     assert ran_in == daemon
+
+
+FROZEN = """
+import gc, json, os
+from transplanter.families.builder import workers
+from transplanter.families.builder.workers import Beside
+
+def beside():
+    with Beside(lambda: (os.getpid(), gc.get_freeze_count())) as b:
+        during = gc.get_freeze_count()
+        pid, seen = b.result()
+    return {"forked": pid != os.getpid(), "during": during, "in_the_fork": seen, "after": gc.get_freeze_count()}
+
+def in_worker():
+    return {"inherited": gc.get_freeze_count(), **beside()}
+
+out = {"before": gc.get_freeze_count(), "beside": beside()}
+with workers.executor(1) as pool:
+    out["pool"] = gc.get_freeze_count()
+    out["worker"] = pool.submit(in_worker).result()
+out["after_pool"] = gc.get_freeze_count()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(not FORKS, reason="no fork on this platform")
+def test_a_fork_runs_with_the_objects_frozen_and_they_are_thawed_when_it_ends():
+    """Issue 46: the objects a fork inherits are in the collector's permanent generation while it
+    runs (no collection walks them and copies their pages, in it or here), back in the collector
+    once it has ended; a build worker, forked frozen, keeps its inherited objects frozen and never
+    freezes its own for good (run in a process of its own: a pytest-xdist worker has threads, so
+    its Beside does not fork)."""
+    import json
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", FROZEN], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    top = out["beside"]
+    assert out["before"] == 0 and top["forked"]
+    assert top["during"] > 1000 and top["in_the_fork"] > 1000 and top["after"] == 0
+    assert out["pool"] > 1000 and out["after_pool"] == 0
+    worker = out["worker"]
+    assert worker["forked"] and worker["inherited"] > 1000
+    assert worker["during"] == worker["in_the_fork"] == worker["after"] == worker["inherited"]

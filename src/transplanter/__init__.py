@@ -131,13 +131,19 @@ class _Moved(importlib.abc.MetaPathFinder, importlib.abc.Loader):
 
     @staticmethod
     def _target(fullname: str) -> str | None:
+        """The new path of ``fullname`` if it or a package above it moved (``MOVED``), else None:
+        asked of every import, so a lookup per dotted prefix, not a scan of ``MOVED``."""
         if not fullname.startswith("transplanter."):
             return None
         rest = fullname.removeprefix("transplanter.")
-        for old, new in MOVED.items():  # a moved package's submodules move with it
-            if rest == old or rest.startswith(old + "."):
+        old = rest
+        while True:  # a moved package's submodules move with it: the longest moved prefix
+            new = MOVED.get(old)
+            if new is not None:
                 return "transplanter." + new + rest[len(old) :]
-        return None
+            if "." not in old:
+                return None
+            old = old.rsplit(".", 1)[0]
 
     def find_spec(self, fullname, path=None, target=None):
         return importlib.util.spec_from_loader(fullname, self) if self._target(fullname) else None

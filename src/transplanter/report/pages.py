@@ -94,9 +94,11 @@ def _verdicts(manifest: dict) -> str:
         else:
             said = sentence
         name = html.escape(part)
+        # a finding said first is not a proof passed: amber, as on the part's own section
+        shade = _CSS["withheld" if proofs and proofs[0].startswith("finding") else state]
         rows.append(
             f"<tr><td><a href='#{name}'>{name}</a></td><td>{html.escape(str(rec.get('kind', '')))}</td>"
-            f"<td class='{_CSS[state]}'>{html.escape(said)}</td></tr>"
+            f"<td class='{shade}'>{html.escape(said)}</td></tr>"
         )
     return "<table class='parts'><tr><th>part</th><th>kind</th><th>verdict</th></tr>" + "".join(rows) + "</table>"
 

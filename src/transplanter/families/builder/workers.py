@@ -3,6 +3,7 @@ given; a part's failure is its outcome, never the worker's."""
 
 from __future__ import annotations
 
+import contextlib
 import itertools
 import threading
 from collections.abc import Callable
@@ -38,14 +39,62 @@ def part_outcome(part: Study, root: Path, used: dict[str, bytes] | None = None) 
 FAMILIES: dict[str, Family] = {}
 
 
+#: this process's forks running while its objects are frozen (:func:`_freeze`): (pid, how many)
+_FROZEN = {"pid": 0, "forks": 0}
+_FREEZING = threading.Lock()  # (the design studio builds from its server's threads)
+
+
+def _freeze() -> bool:
+    """Before a fork: this process's objects moved to the garbage collector's permanent generation
+    (``gc.freeze``, as Python's documentation advises before a fork), so that neither the forked
+    process's collections nor this one's, while it runs, walk them — each walk writes to every
+    object's header and copies the page it lies on, shared until then. True if this call froze
+    (then :func:`_thaw` when the fork has ended); False in a process forked from one that froze
+    (a build worker), whose inherited objects stay frozen and whose own are left as they are (a
+    worker freezing its own for good would keep the cyclic garbage of every later part).
+
+    ``transplanter pair``: 6.47 → 6.17 s of CPU, 4.27 → 4.06 s wall (medians of 7, interleaved);
+    the build of every family ~1 % less CPU."""
+    import gc
+    import os
+
+    # (asked before the lock: a fork may inherit it taken by another thread of its parent)
+    if _FROZEN["pid"] != os.getpid() and gc.get_freeze_count():
+        return False
+    with _FREEZING:
+        if _FROZEN["pid"] != os.getpid():
+            _FROZEN.update(pid=os.getpid(), forks=0)
+        gc.freeze()
+        _FROZEN["forks"] += 1
+    return True
+
+
+def _thaw() -> None:
+    """A fork :func:`_freeze` froze for has ended: the objects back to the collector when none runs."""
+    import gc
+
+    with _FREEZING:
+        _FROZEN["forks"] -= 1
+        if not _FROZEN["forks"]:
+            gc.unfreeze()
+
+
+@contextlib.contextmanager
 def executor(jobs: int):
     """A pool of ``jobs`` worker processes, forked where the platform can (the workers then
-    start with everything this process has imported and loaded)."""
+    start with everything this process has imported and loaded, frozen: :func:`_freeze`)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    ctx = multiprocessing.get_context("fork" if "fork" in multiprocessing.get_all_start_methods() else None)
-    return ProcessPoolExecutor(max_workers=jobs, mp_context=ctx)
+    fork = "fork" in multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if fork else None)
+    froze = fork and _freeze()  # the pool forks its workers at the first task
+    try:
+        with ProcessPoolExecutor(max_workers=jobs, mp_context=ctx) as pool:
+            yield pool
+    finally:
+        if froze:
+            _thaw()
 
 
 def uses(part: Study) -> tuple[str, ...]:
@@ -86,7 +135,8 @@ class Beside:
     inherited by the fork, not pickled (a part's solid is not picklable).
 
     The fork is a bare process and a pipe — no pool, so no thread is started here and another
-    ``Beside`` may fork while this one runs (the plots beside the STEP).
+    ``Beside`` may fork while this one runs (the plots beside the STEP). This process's objects
+    are frozen while a fork runs (:func:`_freeze`).
 
     The same call, the same value: the work runs in this process instead — when :meth:`result`
     is asked — where no fork can be made safely (no ``fork`` start method, other threads running,
@@ -98,6 +148,7 @@ class Beside:
 
         self._call = (fn, args)
         self._proc = self._conn = None
+        self._froze = False  # this process's objects frozen for the fork (:func:`_freeze`)
         if (
             "fork" not in multiprocessing.get_all_start_methods()
             or threading.active_count() > 1
@@ -110,10 +161,12 @@ class Beside:
         receive, send = ctx.Pipe(duplex=False)
         try:  # a daemon: ended with this process, and itself without children
             proc = ctx.Process(target=_run_beside, args=(key, send), daemon=True)
+            self._froze = _freeze()
             proc.start()  # forks here, with the work in _BESIDE
             self._proc, self._conn = proc, receive
         except OSError:  # no process to be had (limits): the work is done here, when asked
             receive.close()
+            self._thaw()
         finally:
             send.close()  # the fork's end; this process keeps only the reading end
             del _BESIDE[key]
@@ -147,4 +200,10 @@ class Beside:
                 self._proc.kill()
             self._proc.join()  # answered (or died): on its way out
             self._proc.close()
+            self._thaw()
         self._proc = self._conn = None
+
+    def _thaw(self) -> None:
+        if self._froze:
+            self._froze = False
+            _thaw()
