@@ -8,9 +8,13 @@ answer: cutting both gears' teeth (the exact envelope of the shaper cutter,
 :meth:`ToothedPairStudy.cut_teeth`, median of 5) — and where the rest of the call goes,
 from one profiled in-process run: imports, the meshing proof (once, on the re-read DXF, carried
 to the outlines and the STL), making the shop files (DXF, STL, 3MF); the STEP (OpenCASCADE) and
-the plots are made in forked processes beside the proof and the assembly (issue 46), so the
-profile cannot see them: their CPU is given as the profiled call's child processes' (with the profiler's overhead,
-which a fork inherits).
+the plots are made in forked processes beside the proof and the assembly (issue 46: the plots'
+forks as soon as the teeth are cut, the meshing plot sent to it once proved), so the profile
+cannot see them: their CPU is given as the profiled call's child processes' (with the profiler's
+overhead, which a fork inherits).
+
+transplanter is timed byte-compiled, as ``pip install`` leaves it and as the peer is
+(``_exports.as_installed``).
 
 Then the peer a user would pick instead, in the same run: ncgears 0.3.1's one-liner with the same
 expression (``ncgears "phi - 0.08*sin(2*phi)" --teeth 24 --module 1.5``), installed from PyPI into

@@ -136,3 +136,57 @@ def test_a_fork_runs_with_the_objects_frozen_and_they_are_thawed_when_it_ends():
     worker = out["worker"]
     assert worker["forked"] and worker["inherited"] > 1000
     assert worker["during"] == worker["in_the_fork"] == worker["after"] == worker["inherited"]
+
+
+INBOX = """
+import json, os, threading
+from transplanter.families.builder.workers import Beside
+
+def work(k, receive):
+    first, second = receive(), receive()
+    return {"pid": os.getpid(), "got": [first(k) if callable(first) else first, second]}
+
+out = {}
+with Beside(work, 2, inbox=True) as b:  # values sent after the fork reach it, in order
+    b.send("a")
+    b.send("b")
+    out["forked"] = b.result()
+with Beside(work, 2, inbox=True) as b:  # a value that does not pickle: the work is done here
+    b.send(lambda k: k * 21)
+    b.send("unused")
+    out["unpicklable"] = b.result()
+stop = threading.Event()
+t = threading.Thread(target=stop.wait)
+t.start()
+with Beside(work, 2, inbox=True) as b:  # no fork beside a thread: done here, receiving what was sent
+    b.send("c")
+    b.send("d")
+    out["threads"] = b.result()
+stop.set()
+t.join()
+try:
+    Beside(os.getpid).send(1)
+except TypeError as exc:
+    out["no_inbox"] = str(exc)
+out["me"] = os.getpid()
+print(json.dumps(out))
+"""
+
+
+@pytest.mark.skipif(not FORKS, reason="no fork on this platform")
+def test_a_fork_with_an_inbox_receives_what_is_sent_after_it_started():
+    """Issue 46: a pair's plots are forked before the proof and sent the meshing plot once it is
+    made — the values arrive in order; one that does not pickle, or no fork to be had, and the
+    work is done here with the same values (run in a process of its own: see above)."""
+    import json
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", INBOX], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    me = out["me"]
+    assert out["forked"]["got"] == ["a", "b"] and out["forked"]["pid"] != me
+    assert out["unpicklable"] == {"pid": me, "got": [42, "unused"]}
+    assert out["threads"] == {"pid": me, "got": ["c", "d"]}
+    assert "inbox=True" in out["no_inbox"]

@@ -109,15 +109,16 @@ def outcome(family: str, script: str | None, part: str, used: dict[str, bytes] |
     return part_outcome(next(p for p in fam.parts if p.name == part), Path("."), used)
 
 
-#: the work a :class:`Beside` hands its forked process, by key: the fork inherits it (nothing pickled)
-_BESIDE: dict[int, tuple[Callable[..., Any], tuple]] = {}
+#: the work a :class:`Beside` hands its forked process, by key: the fork inherits it (nothing
+#: pickled), with the reading end of its inbox (None without one)
+_BESIDE: dict[int, tuple[Callable[..., Any], tuple, Any]] = {}
 _KEYS = itertools.count()
 
 
 def _run_beside(key: int, conn) -> None:
-    fn, args = _BESIDE[key]
+    fn, args, inbox = _BESIDE[key]
     try:
-        out: tuple[str, Any] = ("value", fn(*args))
+        out: tuple[str, Any] = ("value", fn(*args, inbox.recv) if inbox is not None else fn(*args))
     except BaseException as exc:  # the work's error, raised in the parent
         out = ("error", exc)
     try:
@@ -138,17 +139,23 @@ class Beside:
     ``Beside`` may fork while this one runs (the plots beside the STEP). This process's objects
     are frozen while a fork runs (:func:`_freeze`).
 
+    With ``inbox``, the work is ``fn(*args, receive)`` and may start before all it needs exists:
+    ``receive()`` waits for the next value this process hands it by :meth:`send` (pickled; a pair's
+    plots: the teeth drawn while the shop files are made, the meshing once the proof has been).
+
     The same call, the same value: the work runs in this process instead — when :meth:`result`
     is asked — where no fork can be made safely (no ``fork`` start method, other threads running,
     which a fork would copy mid-step, or this process a daemon, which may have no children: the
     design studio's slow judgement runs in one) or the forked process died before answering."""
 
-    def __init__(self, fn: Callable[..., Any], *args) -> None:
+    def __init__(self, fn: Callable[..., Any], *args, inbox: bool = False) -> None:
         import multiprocessing
 
         self._call = (fn, args)
-        self._proc = self._conn = None
+        self._proc = self._conn = self._inbox = None
         self._froze = False  # this process's objects frozen for the fork (:func:`_freeze`)
+        #: with an inbox, what was sent (the work done here receives it from this list)
+        self._sent: list | None = [] if inbox else None
         if (
             "fork" not in multiprocessing.get_all_start_methods()
             or threading.active_count() > 1
@@ -157,18 +164,23 @@ class Beside:
             return
         ctx = multiprocessing.get_context("fork")
         key = next(_KEYS)
-        _BESIDE[key] = self._call
         receive, send = ctx.Pipe(duplex=False)
+        mail, post = ctx.Pipe(duplex=False) if inbox else (None, None)
+        _BESIDE[key] = (fn, args, mail)
         try:  # a daemon: ended with this process, and itself without children
             proc = ctx.Process(target=_run_beside, args=(key, send), daemon=True)
             self._froze = _freeze()
             proc.start()  # forks here, with the work in _BESIDE
-            self._proc, self._conn = proc, receive
+            self._proc, self._conn, self._inbox = proc, receive, post
         except OSError:  # no process to be had (limits): the work is done here, when asked
             receive.close()
+            if post is not None:
+                post.close()
             self._thaw()
         finally:
-            send.close()  # the fork's end; this process keeps only the reading end
+            send.close()  # the fork's ends; this process keeps the results' reading end and the inbox's writing end
+            if mail is not None:
+                mail.close()
             del _BESIDE[key]
 
     def __enter__(self) -> Beside:
@@ -177,22 +189,43 @@ class Beside:
     def __exit__(self, *exc) -> None:
         self._close(stop=True)  # a forked process not asked for its value (the caller failed) is stopped
 
+    def send(self, value) -> None:
+        """Hand ``value`` to the work's ``receive()`` (``inbox``). A value that cannot go to the
+        forked process (it does not pickle) stops it: the work is then done here, when asked."""
+        if self._sent is None:
+            raise TypeError("send() needs a Beside made with inbox=True")
+        self._sent.append(value)
+        if self._inbox is not None:
+            try:
+                self._inbox.send(value)
+            except Exception:  # noqa: BLE001 - unpicklable (any error of any object's reduce), or the fork gone
+                self._close(stop=True)
+
     def result(self):
         """The work's value (waiting for the forked process, or doing it here)."""
-        fn, args = self._call
         if self._conn is None:
-            return fn(*args)
+            return self._here()
         try:
             kind, value = self._conn.recv()
         except (EOFError, OSError):  # the process died (memory, a signal): the same work, here
-            return fn(*args)
+            return self._here()
         finally:
             self._close()
         if kind == "error":
             raise value
         return value
 
+    def _here(self):
+        """The work done in this process (with an inbox, receiving what was sent, in order)."""
+        fn, args = self._call
+        if self._sent is None:
+            return fn(*args)
+        sent = iter(list(self._sent))
+        return fn(*args, lambda: next(sent))
+
     def _close(self, stop: bool = False) -> None:
+        if self._inbox is not None:
+            self._inbox.close()
         if self._conn is not None:
             self._conn.close()
         if self._proc is not None:
@@ -201,7 +234,7 @@ class Beside:
             self._proc.join()  # answered (or died): on its way out
             self._proc.close()
             self._thaw()
-        self._proc = self._conn = None
+        self._proc = self._conn = self._inbox = None
 
     def _thaw(self) -> None:
         if self._froze:

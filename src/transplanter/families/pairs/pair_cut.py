@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -86,6 +87,13 @@ class CutPair:
             gears[0].polygon, gears[1].polygon, pair.centre_distance, external, r0, self.name
         )
         return plots.figure_files(fig, f"{self.name}.teeth")
+
+    def plots(self, receive: Callable[[], Callable[[], dict[str, bytes]]]) -> dict[str, bytes]:
+        """The teeth plot, then the meshing plot ``receive()`` gives when the proof has been made
+        (:meth:`PairProof.results`): drawn beside the build, the teeth while the shop files are
+        made (:class:`~transplanter.families.builder.workers.Beside` with an inbox)."""
+        teeth = self.teeth_plot()
+        return receive()() | teeth
 
     def parameters(self, *, backlash_default: bool, must_mesh: bool) -> dict:
         """The parameters record of the pair as cut."""

@@ -12,7 +12,6 @@ this module knows no train and no paper.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
@@ -31,7 +30,7 @@ from transplanter.report import plots
 from transplanter.shop import formats
 from transplanter.shop.export import csv_array
 
-__all__ = ["Carried", "PairProof", "TrainHook", "screen_verdict", "SOURCES", "SHOP_SOURCES"]
+__all__ = ["Carried", "MeshingPlot", "PairProof", "TrainHook", "screen_verdict", "SOURCES", "SHOP_SOURCES"]
 
 #: the sources a pair is meshed from: the generated outlines, the DXF and the STL's mid-plane section
 SOURCES = ("outline", "dxf", "stl")
@@ -84,6 +83,25 @@ class TrainHook(Protocol):
     def prove(self, source: str, report: MeshReport, found: list[str], module: float) -> tuple[object, dict, list[str]]:
         """The train rebuilt from ``report`` (a source's meshing; ``found`` its meshing
         problems): (its check, for the plot; its figures; the problems it finds)."""
+
+
+@dataclass(frozen=True)
+class MeshingPlot:
+    """A pair's meshing plot, drawn when called (its files by name): plain data, so the plots'
+    process may be sent it once the proof has been made (:meth:`CutPair.plots`)."""
+
+    name: str
+    meshed: dict  # source -> MeshReport (the sources meshed, not carried)
+    shown: object  # the train rebuilt on the source the plot shows, or None
+    note: str
+    band: tuple[float, float]
+    clearance: float | None
+
+    def __call__(self) -> dict[str, bytes]:
+        fig = plots.meshing_figure(
+            self.meshed, self.name, self.shown, self.note, band=self.band, clearance=self.clearance
+        )
+        return plots.figure_files(fig, f"{self.name}.meshing")
 
 
 @dataclass(frozen=True)
@@ -234,7 +252,7 @@ class PairProof:
             )
         return found
 
-    def results(self, reports: dict) -> tuple[dict, Callable[[], dict[str, bytes]], list[str]]:
+    def results(self, reports: dict) -> tuple[dict, MeshingPlot, list[str]]:
         """Figures per source, the meshing plot — drawn when called (its files by name; a check
         that shows no plot draws none) — and the problems (``source: text``)."""
         band = self.band
@@ -264,12 +282,7 @@ class PairProof:
         shown = trains.get("stl", trains.get("dxf", trains.get("outline")))
         note = " (pitch-point contact; the interference above ignored)" if problems else ""
         meshed = {k: v for k, v in readable.items() if not isinstance(v, Carried)}
-
-        def plot() -> dict[str, bytes]:
-            fig = plots.meshing_figure(meshed, self.name, shown, note, band=band, clearance=self.min_clearance)
-            return plots.figure_files(fig, f"{self.name}.meshing")
-
-        return results, plot, problems
+        return results, MeshingPlot(self.name, meshed, shown, note, band, self.min_clearance), problems
 
     def turned(self, files: dict[str, bytes]) -> list[str]:
         """A DXF whose toothed contour is the design turned about its axis, said in those words."""

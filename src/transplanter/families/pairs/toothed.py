@@ -221,13 +221,15 @@ class ToothedPairStudy(StudyDefaults):
         results.update(made_pair.gear_results())
         files = made_pair.outline_files()
         once = self.must_mesh and self.making is not None
-        reports = {} if once else proof.mesh(files, ("outline",))
-        problems = [] if once else proof.problems(reports["outline"])
-        if problems and self.must_mesh:
-            raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
-        if problems:
-            results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
         with contextlib.ExitStack() as beside:
+            # the plots in a fork of their own (issue 46): the teeth drawn now, the meshing once proved
+            drawn = beside.enter_context(Beside(made_pair.plots, inbox=True))
+            reports = {} if once else proof.mesh(files, ("outline",))
+            problems = [] if once else proof.problems(reports["outline"])
+            if problems and self.must_mesh:
+                raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
+            if problems:
+                results["shop_files"] = "withheld: the generated teeth do not mesh (see meshing)"
             if not problems and self.making is not None:
                 made = pair_assembly.make(made_pair, self.making, self.train, tuple(self.notes))
                 for role, res in made.results.items():
@@ -244,9 +246,7 @@ class ToothedPairStudy(StudyDefaults):
                 if problems:
                     raise GeometryError(f"{self.name}: the generated teeth do not mesh: " + "; ".join(problems))
             meshing, meshing_plot, problems = proof.results(reports)
-            # the plots (matplotlib) are drawn in a process of their own, beside the assembly and
-            # the STEPs still being written (issue 46)
-            drawn = beside.enter_context(Beside(lambda: meshing_plot() | made_pair.teeth_plot()))
+            drawn.send(meshing_plot)  # drawn beside the assembly and the STEPs still being written
             if self.making is not None and not results.get("shop_files"):
                 results["assembly"], more, steps = pair_assembly.assemble(
                     made_pair, made, reports["dxf"], proof.min_clearance, self.train, written.result
