@@ -11,7 +11,7 @@ It then measures, on a cluster of all cores, what a parallel generation costs be
 cluster's start, a generation's round trip (a map of one empty batch per worker) and each task's share
 (a map of many empty tasks: the dispatcher's time per task), and predicts the time of a generation on ``w``
 workers as the makespan of the measured candidates' times dealt out in the search's batches
-(:func:`~transplanter.design.optimise.batch_bounds`: shrinking to one candidate; the worker free first takes
+(:func:`~transplanter.design.cluster.batch_bounds`: shrinking to one candidate; the worker free first takes
 the next batch, once the one dispatcher has sent the batches before it), plus a generation's round trip —
 printed beside what was measured for 2 and all cores, and for 16 workers (a 16-core machine) as the
 prediction; beside it, the more pessimistic figure were every task's dispatch to hold up every worker.
@@ -32,8 +32,9 @@ import time
 
 import numpy as np
 
-from transplanter.design import optimise as search
-from transplanter.design.optimise import batch_bounds, optimise
+from transplanter.design import cluster as search
+from transplanter.design.cluster import batch_bounds
+from transplanter.design.optimise import optimise
 from transplanter.families import run_script
 
 

@@ -663,6 +663,12 @@ class _CountedCost:
         return (_CountedCost, ())
 
 
+def _opened() -> list[str]:
+    from transplanter.design import cluster
+
+    return list(cluster._OPENED)
+
+
 def _worker_settings() -> dict:
     import os
 
@@ -704,6 +710,9 @@ def test_a_parallel_search_ships_its_cost_function_once_and_batches_the_candidat
         for _ in range(3):  # scipy passes the same function every generation: not shipped again
             assert run(problem, xs[:5]) == [problem(x) for x in xs[:5]]
         assert _CountedCost.pickled == before and run.tasks == 8 + 3 * 3  # 2, 2, 1 candidates
+        # shipped as bytes, opened once by each worker in its first batch (side by side, not in turn)
+        opened = run.client.run(_opened)
+        assert len(opened) == 2 and len({tuple(t) for t in opened.values()}) == 1 and len(opened.popitem()[1]) == 1
         address = run.client.scheduler.address
         parallel = search.optimise(problem, seed=2, maxiter=6, popsize=5, scheduler=address)
     serial = search.optimise(problem, seed=2, maxiter=6, popsize=5, updating="deferred")

@@ -24,7 +24,7 @@ import pytest
 
 from transplanter.app import cli
 from transplanter.core.errors import PartScriptError, SpecError
-from transplanter.design import optimise as design_optimise
+from transplanter.design import cluster as design_cluster
 from transplanter.design.optimise import MAX_MAXITER, MAX_POPSIZE, MAX_SEED, MAX_WORKERS, Problem, misses, optimise
 from transplanter.families.builder.optimum import find_optimum, module_file, number_text, record_optimum
 
@@ -401,8 +401,8 @@ def peer(send: bytes | None):
 
 
 def test_a_scheduler_that_accepts_and_never_answers_fails_within_the_timeout(tmp_path, capsys, monkeypatch):
-    assert design_optimise.SCHEDULER_TIMEOUT_S == 10.0  # the stated bound; tried here at 2 s
-    monkeypatch.setattr(design_optimise, "SCHEDULER_TIMEOUT_S", 2.0)
+    assert design_cluster.SCHEDULER_TIMEOUT_S == 10.0  # the stated bound; tried here at 2 s
+    monkeypatch.setattr(design_cluster, "SCHEDULER_TIMEOUT_S", 2.0)
     path, _ = _bowl(tmp_path)
     with peer(None) as address:
         start = time.monotonic()
@@ -426,7 +426,7 @@ def test_a_scheduler_that_accepts_and_never_answers_fails_within_the_timeout(tmp
     ids=["0xff", "a 3 EiB frame", "HTTP", "SSH", "zeros", "a short frame", "silence"],
 )
 def test_a_scheduler_that_answers_garbage_is_refused_clearly(tmp_path, capsys, monkeypatch, reply):
-    monkeypatch.setattr(design_optimise, "SCHEDULER_TIMEOUT_S", 2.0)
+    monkeypatch.setattr(design_cluster, "SCHEDULER_TIMEOUT_S", 2.0)
     path, _ = _bowl(tmp_path)
     with peer(reply) as address:
         code, out, err = run(capsys, "optimise", path, *SEARCH, "--scheduler", address)
@@ -447,3 +447,37 @@ def test_a_scheduler_address_that_is_not_one_is_named(tmp_path, capsys, address,
     path, _ = _bowl(tmp_path)
     code, out, err = run(capsys, "optimise", path, *SEARCH, "--scheduler", address)
     assert code == 2 and said in err, err
+
+
+PORT_TAKEN = """
+import socket
+import warnings
+
+from transplanter.design.cluster import _evaluator
+
+if __name__ == "__main__":
+    held = socket.socket()
+    try:
+        held.bind(("127.0.0.1", 8787))
+        held.listen()
+    except OSError:
+        pass  # dask's port is taken already: the same case
+    warnings.simplefilter("error")  # here, where the local scheduler runs
+    with _evaluator(2, None) as run:
+        print(run.workers())
+    held.close()
+"""
+
+
+def test_a_local_search_starts_beside_another_cluster_without_a_word(tmp_path):
+    """The local cluster's scheduler keeps an HTTP server for its metrics; on dask's 8787, taken by
+    any other cluster (the design studio's search, a notebook's), it warns before moving to another
+    port — said on the user's console, an error in a suite. It binds a free port of loopback."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "beside.py"
+    script.write_text(PORT_TAKEN)
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0 and proc.stdout.strip() == "2", proc.stderr[-2000:]
+    assert "already in use" not in proc.stderr

@@ -6,7 +6,8 @@ four-pose synthesis and seed 002's open 3R chain (:mod:`~transplanter.design.lin
 train of non-circular gears (:mod:`~transplanter.design.planetary`), what its tip does in the soil
 (:mod:`~transplanter.design.agronomy`), seed 004's objectives i–xii
 (:mod:`~transplanter.design.objectives`) and differential evolution over a problem's variables
-(:mod:`~transplanter.design.optimise`, dask.distributed for many workers).
+(:mod:`~transplanter.design.optimise`; its generations on many workers by dask.distributed,
+:mod:`~transplanter.design.cluster`).
 
 Takes
     link dimensions and pitch curves (:mod:`transplanter.geometry.pitch`).
