@@ -221,7 +221,14 @@ class Beside:
         if self._sent is None:
             return fn(*args)
         sent = iter(list(self._sent))
-        return fn(*args, lambda: next(sent))
+
+        def receive():
+            try:
+                return next(sent)
+            except StopIteration:  # asked its value before handing the work all it waits for
+                raise RuntimeError("the work beside waits for a value that was never sent") from None
+
+        return fn(*args, receive)
 
     def _close(self, stop: bool = False) -> None:
         if self._inbox is not None:
