@@ -62,6 +62,12 @@ _NOT_CUT = (".obstacle.dxf", ".bought.dxf")
 _CSS = {"built": "built", "withheld": "withheld", "failed": "error"}
 
 
+def _shade(proof: str, state: str) -> str:
+    """The style of a part's proof line: a finding is not a proof passed — it reads as one withheld
+    does, whatever the part's state (on its section and, said first, in the verdicts table)."""
+    return _CSS["withheld" if proof.startswith("finding") else state]
+
+
 def part_status(rec: dict) -> tuple[str, str]:
     """("built" | "withheld" | "failed", the sentence a reader sees) for a manifest part record."""
     if "error" in rec:
@@ -94,8 +100,7 @@ def _verdicts(manifest: dict) -> str:
         else:
             said = sentence
         name = html.escape(part)
-        # a finding said first is not a proof passed: amber, as on the part's own section
-        shade = _CSS["withheld" if proofs and proofs[0].startswith("finding") else state]
+        shade = _shade(proofs[0], state) if proofs else _CSS[state]  # as the part's first line reads
         rows.append(
             f"<tr><td><a href='#{name}'>{name}</a></td><td>{html.escape(str(rec.get('kind', '')))}</td>"
             f"<td class='{shade}'>{html.escape(said)}</td></tr>"
@@ -139,9 +144,7 @@ def _part(part: str, rec: dict) -> list[str]:
     if state == "failed":
         return [*out, f"<p class='{_CSS[state]}'>{html.escape(sentence)}</p>"]
     rows, proofs = headline(rec)
-    # a finding is not a proof passed: it reads as one withheld does, whatever the part's state
-    shade = {p: _CSS["withheld" if p.startswith("finding") else state] for p in proofs}
-    out += [f"<p class='proof {shade[p]}'>{html.escape(p)}</p>" for p in proofs]
+    out += [f"<p class='proof {_shade(p, state)}'>{html.escape(p)}</p>" for p in proofs]
     out.append(f"<p class='state {_CSS[state]}'>{html.escape(sentence)}</p>")
     half = -(-len(rows) // 2) if len(rows) > _KEY_ROWS else len(rows)
     out.append(f"<div class='key'>{table(rows[:half], 'key')}{table(rows[half:], 'key')}</div>" if rows else "")

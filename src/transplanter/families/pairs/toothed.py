@@ -83,7 +83,7 @@ class ToothedPairStudy(StudyDefaults):
     (:func:`pair_assembly.make`) → prove the DXF, carried to the outlines and the STL
     (:class:`pair_proof.PairProof`) → assemble (:func:`pair_assembly.assemble`) → record (a
     finding, or a pair without ``making``, proves its outlines before making). Forked processes
-    (``workers.Beside``) write the STEPs beside the proof and draw the plots beside the assembly:
+    (``workers.Beside``) write the STEPs beside the proof and draw the plots from the cut on:
     the same files, each made once.
     """
 
