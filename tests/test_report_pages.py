@@ -149,6 +149,13 @@ def _arm_record() -> dict:
     return {"kind": "arm", "files": {"arm.path.png": "0"}, "parameters": {}, "results": results}
 
 
+def _summary(page: str) -> tuple[str, str]:
+    """The page's count of parts under its title: (its class, its text)."""
+    found = re.search(r"<p class='(\w+)'>(\d+ parts?: [^<]*)</p>", page)
+    assert found, "no count of parts on the page"
+    return found.group(1), found.group(2)
+
+
 def _manifest(parts: dict) -> dict:
     return {"family": "demo", "description": "a demo family", "parts": parts}
 
@@ -364,12 +371,15 @@ def test_a_finding_of_a_built_machine_reads_as_withheld_not_as_a_proof_passed():
             "machine": {"findings": ["the roller leaves the cam"]},
         },
     }
-    page = _Page(family_report(_manifest({"machine": rec})).decode())
+    html = family_report(_manifest({"machine": rec})).decode()
+    page = _Page(html)
     assert page.parts["machine"][:2] == ["p.proof withheld", "p.state built"]
     # and so in the page's first table, where the finding is what the verdict says first
     (row,) = [r for r in page.tables[0]["rows"][1:] if r[0][1] == "machine"]
     assert row[2] == ("withheld", "built — finding: the roller leaves the cam")
+    assert _summary(html) == ("withheld", "1 part: 1 built (1 with a finding)")  # the page's first line too
     rec["results"]["machine"] = {}  # without it: a built machine's verdict, green
-    page = _Page(family_report(_manifest({"machine": rec})).decode())
+    html = family_report(_manifest({"machine": rec})).decode()
+    page = _Page(html)
     (row,) = [r for r in page.tables[0]["rows"][1:] if r[0][1] == "machine"]
-    assert row[2][0] == "built"
+    assert row[2][0] == "built" and _summary(html) == ("built", "1 part: 1 built")

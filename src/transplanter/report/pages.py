@@ -170,8 +170,14 @@ def family_report(manifest: dict) -> bytes:
     name = html.escape(manifest["family"])
     states = [part_status(manifest["parts"][p])[0] for p in manifest["parts"]]
     counts = ", ".join(f"{states.count(s)} {s}" for s in ("built", "withheld", "failed") if states.count(s))
+    # a part built with a finding (a machine missing a requirement) is counted apart, amber
+    found = sum(
+        state == "built" and any(_shade(p, state) != _CSS[state] for p in headline(manifest["parts"][part])[1])
+        for part, state in zip(manifest["parts"], states, strict=True)
+    )
+    counts += f" ({found} with a finding)" if found else ""
     summary = f"{len(states)} part{'s' if len(states) != 1 else ''}: {counts}"
-    cls = "error" if "failed" in states else ("withheld" if "withheld" in states else "built")
+    cls = "error" if "failed" in states else ("withheld" if "withheld" in states or found else "built")
     out = [
         "<!DOCTYPE html><html><head><meta charset='utf-8'>",
         f"<title>{name}</title><style>{_STYLE}</style></head><body>",
