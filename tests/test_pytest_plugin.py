@@ -1,10 +1,8 @@
 """The pytest plugin: a user's part scripts as test items held to golden records."""
 
-# the inner pytest runs (in this process) drop the modules they import: import what a build
-# needs here, once, so that each run does not import matplotlib and the rest again
+import pytest
+
 import transplanter.app.cli
-import transplanter.families
-import transplanter.report.pages  # noqa: F401
 
 ARM = """
 from transplanter.families import ArmStudy, Family
@@ -42,6 +40,19 @@ class PlateStudy(StudyDefaults):
 def family():
     return Family("beta", "a user's plate", (PlateStudy("plate", {side}),))
 """
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _a_build_s_modules_imported(tmp_path_factory):
+    """The inner pytest runs (in this process) drop the modules they import, and some extension
+    modules (numpy's, matplotlib's) cannot be imported twice in one process: a build of the arm
+    here, once, imports everything a build imports, whatever ran before in this process."""
+    parts = tmp_path_factory.mktemp("warm") / "parts"
+    parts.mkdir()
+    (parts / "alpha.py").write_text(ARM.format(crank=40, depth=40.0))
+    out = parts.parent / "out"
+    assert transplanter.app.cli.main(["build", "--parts", str(parts), "-o", str(out), "--jobs", "1"]) == 0
+
 
 INI = """[pytest]
 addopts = -p no:hypothesispytest -p no:cacheprovider
