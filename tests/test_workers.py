@@ -190,3 +190,96 @@ def test_a_fork_with_an_inbox_receives_what_is_sent_after_it_started():
     assert out["unpicklable"] == {"pid": me, "got": [42, "unused"]}
     assert out["threads"] == {"pid": me, "got": ["c", "d"]}
     assert "inbox=True" in out["no_inbox"]
+
+
+#: what a task of the build's forks leaves in its process (a fresh fork must not see it)
+_LEFT: list[int] = []
+
+
+def _task(pause: float) -> tuple[int, int, float, float, int]:
+    import gc
+
+    seen = len(_LEFT)
+    _LEFT.append(os.getpid())
+    t0 = time.monotonic()
+    time.sleep(pause)
+    return os.getpid(), seen, t0, time.monotonic(), gc.get_freeze_count()
+
+
+def _fails() -> None:
+    raise GeometryError("the part's own error")
+
+
+def _killed() -> None:
+    import signal
+
+    os.kill(os.getpid(), signal.SIGKILL)
+
+
+@pytest.mark.skipif(not FORKS, reason="no fork on this platform")
+def test_the_build_s_forks_run_each_task_in_a_fresh_process_at_most_jobs_at_once():
+    """Issue 46: each part in a fresh fork of the builder as it was on entering (nothing a part left
+    behind is under the next, nor the files the builder gathered since), at most ``jobs`` at once,
+    the builder's objects frozen meanwhile; a part's error comes back as its error, a killed
+    process as died, and leaving the block stops what still runs."""
+    import gc
+
+    from transplanter.families.builder.workers import Forks
+
+    before = gc.get_freeze_count()
+    with Forks(2) as pool:
+        _LEFT.append(0)  # what this process gathers after entering (a part's files) is not in the forks
+        tickets = [pool.submit(_task, 0.2) for _ in range(5)]
+        done = dict(pool.next()[::2] for _ in tickets)
+        assert len(pool) == 0
+        rows = [done[t] for t in tickets]
+        pids = {r[0] for r in rows}
+        assert len(pids) == 5 and os.getpid() not in pids  # a process each
+        assert all(r[1] == 0 for r in rows)  # none saw what another left behind, or this process since
+        assert all(r[4] > 1000 for r in rows)  # this process's objects frozen in each
+        spans = [(r[2], r[3]) for r in rows]
+        at_once = max(sum(a <= t < b for a, b in spans) for t, _ in spans)
+        assert at_once == 2
+
+        failed = pool.submit(_fails)
+        got, kind, value = pool.next()
+        assert (got, kind) == (failed, "error") and isinstance(value, GeometryError) and "own error" in str(value)
+        killed = pool.submit(_killed)
+        got, kind, value = pool.next()
+        assert (got, kind) == (killed, "died") and "without answering" in value
+
+        slow, quick = pool.submit(_task, 30.0), pool.submit(_task, 0.0)
+        t = time.monotonic()
+        assert pool.next()[0] == quick
+    assert time.monotonic() - t < 10.0 and len(pool) == 0  # the slow one stopped, not waited for
+    assert gc.get_freeze_count() == before and _LEFT == [0]
+    assert slow not in (quick, killed)
+
+
+def _echo(data: bytes) -> bytes:
+    return data[::-1]
+
+
+@pytest.mark.skipif(not FORKS, reason="no fork on this platform")
+def test_large_tasks_and_large_answers_pass_each_other():
+    """A machine's task carries its gears' files (tens of MB) while another part's answer comes
+    back: the builder handing out the one and the fork server passing on the other must not wait
+    on each other (they did, through two pipes: the build hung)."""
+    import signal
+
+    from transplanter.families.builder.workers import Forks
+
+    def late(*_):
+        raise TimeoutError("the forks did not answer within 60 s")
+
+    was = signal.signal(signal.SIGALRM, late)
+    signal.alarm(60)
+    try:
+        payloads = [bytes([k]) * 3_000_000 + b"end" for k in range(6)]
+        with Forks(2) as pool:
+            tickets = {pool.submit(_echo, p): p for p in payloads}
+            got = dict(pool.next()[::2] for _ in payloads)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, was)
+    assert all(got[t] == p[::-1] for t, p in tickets.items())

@@ -341,18 +341,17 @@ def build_families(
     their manifests in order. Parts that have not changed are kept (:func:`build_family`; all
     rebuilt with ``force``).
 
-    The parts are handed out longest kind first (gear pairs, trains, cams, ...) to whichever
-    process is free, and each family is written (:func:`build_family`) as soon as its last part
-    is done, by this process, in the family's own part order — so the files are byte-identical
-    to a serial build. ``progress`` gets ``family/part`` as each part finishes.
+    The parts are handed out longest kind first (gear pairs, trains, cams, ...), each built in a
+    process of its own forked from this one as it was before the first (:class:`workers.Forks`),
+    up to ``jobs`` at once, and each family is written (:func:`build_family`) as soon as its last
+    part is done, by this process, in the family's own part order — so the files are
+    byte-identical to a serial build. ``progress`` gets ``family/part`` as each part finishes.
     """
     names = [f.name for f in families]
     if len(set(names)) != len(names):  # serial or not: the last would replace the first's export
         raise PartScriptError(f"two part scripts define the same family name: {sorted(names)}")
     if jobs <= 1:
         return [build_family(f, out_dir, progress, force=force) for f in families]
-    from concurrent.futures import FIRST_COMPLETED, wait
-    from concurrent.futures.process import BrokenProcessPool
 
     out = inputs.folder("out_dir", out_dir)
     roots = {f.name: out / f.name for f in families}
@@ -387,7 +386,7 @@ def build_families(
         workers.FAMILIES.clear()
         workers.FAMILIES.update((f.name, f) for f in families)
         try:
-            with workers.executor(jobs) as pool:
+            with workers.Forks(jobs) as pool:
                 pending: dict = {}
 
                 def hand_out() -> None:  # every task whose used parts are done, longest first
@@ -406,18 +405,18 @@ def build_families(
                 while pending or tasks:
                     if not pending:  # (cannot happen: a part uses only parts listed before it)
                         raise ExportError(f"parts wait for parts that are not built: {[p.name for _, p in tasks]}")
-                    done, _ = wait(pending, return_when=FIRST_COMPLETED)
-                    for fut in done:
-                        f, p = pending.pop(fut)
-                        try:
-                            outcomes[f.name][p.name] = fut.result()
-                        except BrokenProcessPool as exc:  # a worker killed (out of memory, a signal)
-                            raise ExportError(
-                                f"a build process died while building {f.name}/{p.name} ({exc}); the exports of the "
-                                "families not yet written are unchanged — run the build again, or with --jobs 1"
-                            ) from exc
-                        if progress is not None:
-                            progress(f"{f.name}/{p.name}")
+                    ticket, kind, value = pool.next()
+                    f, p = pending.pop(ticket)
+                    if kind == "died":  # a process killed (out of memory, a signal)
+                        raise ExportError(
+                            f"a build process died while building {f.name}/{p.name} ({value}); the exports of the "
+                            "families not yet written are unchanged — run the build again, or with --jobs 1"
+                        )
+                    if kind == "error":
+                        raise value
+                    outcomes[f.name][p.name] = value
+                    if progress is not None:
+                        progress(f"{f.name}/{p.name}")
                     hand_out()
                     for f in families:
                         if f.name not in manifests and len(outcomes[f.name]) + len(keep[f.name]) == len(f.parts):

@@ -1,5 +1,7 @@
-"""Building parts in worker processes: each worker loads a family once and builds the parts it is
-given; a part's failure is its outcome, never the worker's."""
+"""Building parts in other processes: the parallel build forks a fresh process for each part
+(:class:`Forks`, the families loaded once before), :class:`Beside` forks a step of a part beside
+the rest of it, and ``transplanter check`` checks families in a pool (:func:`executor`); a part's
+failure is its outcome, never the process's."""
 
 from __future__ import annotations
 
@@ -15,7 +17,7 @@ from transplanter.core.errors import TransplanterError
 from transplanter.families.builder.scripts import Family, load_family
 from transplanter.families.builder.study import Built, Study
 
-__all__ = ["FAMILIES", "Beside", "executor", "outcome", "part_outcome", "uses"]
+__all__ = ["FAMILIES", "PRELOADED", "Beside", "Forks", "executor", "outcome", "part_outcome", "uses"]
 
 
 def part_outcome(part: Study, root: Path, used: dict[str, bytes] | None = None) -> Built | str:
@@ -95,6 +97,188 @@ def executor(jobs: int):
     finally:
         if froze:
             _thaw()
+
+
+#: modules a build's parts import that :class:`Forks` imports once, before forking (each part's
+#: fork then starts with them, shared, instead of importing them again: a cold build of every
+#: family took ~10 s more CPU without)
+PRELOADED = ("OCP.BRepPrimAPI", "OCP.STEPControl", "matplotlib.pyplot", "trimesh")
+
+
+class Forks:
+    """Up to ``jobs`` processes, a fresh one for each task, each forked from one that holds only
+    what this process held on entering — the families loaded, :data:`PRELOADED` imported, frozen
+    (:func:`_freeze`): the fork server, forked on entering. A part built in one starts from that
+    state, not from what the builder has gathered since (the files of every part built before it),
+    and what it leaves behind — its garbage, its heap's holes, the caches of the libraries it used
+    — ends with it, instead of staying in a pool worker under every part that worker builds next
+    (issue 46).
+
+    :meth:`submit` queues ``fn(*args)`` and returns its ticket; :meth:`next` hands the server what
+    the limit allows and waits for the first task to end: ``(ticket, "value", value)``, ``(ticket,
+    "error", exception)`` for an exception it raised, or ``(ticket, "died", why)`` when its process
+    ended without answering (a signal, out of memory). A value or error comes back pickled, as a
+    pool's does, in a file of a temporary folder that the task's process writes and this one reads
+    and removes — no pipe carries it, so the builder handing out a large task (a machine's gear
+    files) and the server passing on a large answer never wait on each other. No thread is
+    started. Leaving the ``with`` block stops the server and the processes still running."""
+
+    def __init__(self, jobs: int) -> None:
+        import collections
+
+        self.jobs = max(1, jobs)
+        self._queue: collections.deque = collections.deque()
+        self._running: set[int] = set()
+        self._tickets = itertools.count()
+
+    def __enter__(self) -> Forks:
+        import importlib
+        import os
+        import tempfile
+        from multiprocessing.connection import Pipe
+
+        for name in PRELOADED:
+            with contextlib.suppress(ImportError):
+                importlib.import_module(name)
+        self._froze = _freeze()
+        self._dir = tempfile.mkdtemp(prefix="transplanter-forks-")
+        tasks, self._tasks = Pipe(duplex=False)
+        self._results, results = Pipe(duplex=False)
+        self._server = os.fork()
+        if self._server == 0:  # the fork server: until this process says stop or goes
+            code = 0
+            try:
+                self._tasks.close()
+                self._results.close()
+                _serve(tasks, results, self._dir)
+            except BaseException:
+                code = 1
+            finally:
+                os._exit(code)
+        tasks.close()
+        results.close()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        import os
+        import shutil
+
+        try:
+            with contextlib.suppress(OSError):  # the server stops what still runs, and ends
+                self._tasks.send(None)
+            self._tasks.close()
+            self._results.close()
+            os.waitpid(self._server, 0)
+            self._queue.clear()
+            self._running.clear()
+            shutil.rmtree(self._dir, ignore_errors=True)
+        finally:
+            if self._froze:
+                _thaw()
+
+    def submit(self, fn: Callable[..., Any], *args) -> int:
+        ticket = next(self._tickets)
+        self._queue.append((ticket, fn, args))
+        return ticket
+
+    def __len__(self) -> int:
+        """Tasks queued or running."""
+        return len(self._queue) + len(self._running)
+
+    def next(self) -> tuple[int, str, Any]:
+        """Hand out what the limit allows, wait for one task to end: ``(ticket, kind, value)``."""
+        import os
+        import pickle
+
+        while self._queue and len(self._running) < self.jobs:
+            task = self._queue.popleft()
+            self._tasks.send(task)
+            self._running.add(task[0])
+        if not self._running:
+            raise ValueError("no task to wait for")
+        try:
+            ticket, state, said = self._results.recv()
+        except (EOFError, OSError):  # the server itself is gone: every task it ran with it
+            return min(self._running), "died", "the build's fork server ended"
+        self._running.discard(ticket)
+        if state == "died":
+            return ticket, "died", said
+        with open(said, "rb") as f:
+            kind, value = pickle.load(f)
+        os.remove(said)
+        return ticket, kind, value
+
+
+def _serve(tasks, results, folder: str) -> None:
+    """The fork server of :class:`Forks`: each task received forked into a process of its own,
+    which pickles its answer into ``folder``; where it is, or the process's death, is passed on.
+    On ``None`` (or the builder gone) every process still running is stopped."""
+    import os
+    import signal
+    from multiprocessing.connection import Pipe, wait
+
+    running: dict = {}  # reading end -> (ticket, pid)
+    try:
+        while True:
+            for conn in wait([tasks, *running]):
+                if conn is tasks:
+                    task = tasks.recv()
+                    if task is None:
+                        return
+                    receive, send = Pipe(duplex=False)
+                    pid = os.fork()
+                    if pid == 0:
+                        tasks.close()
+                        results.close()
+                        receive.close()
+                        _answer(send, os.path.join(folder, f"{task[0]}.pickle"), *task[1:])
+                    send.close()
+                    running[receive] = (task[0], pid)
+                    del task
+                    continue
+                ticket, pid = running.pop(conn)
+                try:
+                    path = conn.recv()
+                except (EOFError, OSError):
+                    path = None
+                conn.close()
+                _, status = os.waitpid(pid, 0)
+                if path is None:
+                    results.send((ticket, "died", f"its process ended without answering (wait status {status})"))
+                else:
+                    results.send((ticket, "done", path))
+    finally:
+        for conn, (_, pid) in running.items():
+            with contextlib.suppress(ProcessLookupError):
+                os.kill(pid, signal.SIGKILL)
+            conn.close()
+            os.waitpid(pid, 0)
+
+
+def _answer(send, path: str, fn: Callable[..., Any], args: tuple) -> None:
+    """In a task's process: ``fn(*args)``, its value or error pickled into ``path`` and the path
+    sent, then gone without clean-up."""
+    import os
+    import pickle
+
+    code = 0
+    try:
+        try:
+            out: tuple[str, Any] = ("value", fn(*args))
+        except Exception as exc:  # the task's error, raised by the caller
+            out = ("error", exc)
+        with open(path, "wb") as f:
+            try:
+                pickle.dump(out, f, protocol=pickle.HIGHEST_PROTOCOL)
+            except Exception as exc:  # a value or error that does not pickle: said, not lost
+                f.seek(0)
+                f.truncate()
+                pickle.dump(("error", TransplanterError(f"a build process could not return: {exc}")), f)
+        send.send(path)
+    except BaseException:
+        code = 1
+    finally:
+        os._exit(code)
 
 
 def uses(part: Study) -> tuple[str, ...]:
