@@ -283,3 +283,18 @@ def test_large_tasks_and_large_answers_pass_each_other():
         signal.alarm(0)
         signal.signal(signal.SIGALRM, was)
     assert all(got[t] == p[::-1] for t, p in tickets.items())
+
+
+def test_where_no_process_can_be_forked_the_build_s_tasks_are_done_here(monkeypatch):
+    from transplanter.families.builder.workers import Forks
+
+    def refused():
+        raise OSError("Resource temporarily unavailable")
+
+    monkeypatch.setattr(os, "fork", refused)
+    with Forks(2) as pool:
+        mine, failed = pool.submit(os.getpid), pool.submit(_fails)
+        assert pool.next() == (mine, "value", os.getpid())
+        got, kind, value = pool.next()
+        assert (got, kind) == (failed, "error") and isinstance(value, GeometryError)
+        assert len(pool) == 0

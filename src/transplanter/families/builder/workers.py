@@ -121,7 +121,8 @@ class Forks:
     pool's does, in a file of a temporary folder that the task's process writes and this one reads
     and removes — no pipe carries it, so the builder handing out a large task (a machine's gear
     files) and the server passing on a large answer never wait on each other. No thread is
-    started. Leaving the ``with`` block stops the server and the processes still running."""
+    started. Leaving the ``with`` block stops the server and the processes still running. Where
+    no process can be forked, each task is done in this process when :meth:`next` is asked."""
 
     def __init__(self, jobs: int) -> None:
         import collections
@@ -140,11 +141,22 @@ class Forks:
         for name in PRELOADED:
             with contextlib.suppress(ImportError):
                 importlib.import_module(name)
+        self._server = None  # no fork to be had: each task is done here, in turn, when waited for
+        self._froze = False
+        if not hasattr(os, "fork"):
+            return self
         self._froze = _freeze()
         self._dir = tempfile.mkdtemp(prefix="transplanter-forks-")
         tasks, self._tasks = Pipe(duplex=False)
         self._results, results = Pipe(duplex=False)
-        self._server = os.fork()
+        try:
+            self._server = os.fork()
+        except OSError:  # no process to be had (limits)
+            for end in (tasks, self._tasks, self._results, results):
+                end.close()
+            os.rmdir(self._dir)
+            self._server = None
+            return self
         if self._server == 0:  # the fork server: until this process says stop or goes
             code = 0
             try:
@@ -163,6 +175,10 @@ class Forks:
         import os
         import shutil
 
+        if self._server is None:
+            if self._froze:
+                _thaw()
+            return
         try:
             with contextlib.suppress(OSError):  # the server stops what still runs, and ends
                 self._tasks.send(None)
@@ -190,6 +206,12 @@ class Forks:
         import os
         import pickle
 
+        if self._server is None and self._queue:
+            ticket, fn, args = self._queue.popleft()
+            try:
+                return ticket, "value", fn(*args)
+            except Exception as exc:  # the task's error, raised by the caller
+                return ticket, "error", exc
         while self._queue and len(self._running) < self.jobs:
             task = self._queue.popleft()
             self._tasks.send(task)
