@@ -396,7 +396,7 @@ def build_families(
                         if isinstance(used, str):
                             outcomes[f.name][p.name] = used
                             continue
-                        pending[pool.submit(workers.outcome, f.name, f.script, p.name, used)] = (f, p)
+                        pending[pool.submit(workers.outcome, f.name, p.name, used)] = (f, p)
 
                 hand_out()
                 for f in families:  # a family without parts to build is written at once

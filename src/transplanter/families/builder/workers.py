@@ -14,7 +14,7 @@ from typing import Any
 
 from transplanter.core import heap
 from transplanter.core.errors import TransplanterError
-from transplanter.families.builder.scripts import Family, load_family
+from transplanter.families.builder.scripts import Family
 from transplanter.families.builder.study import Built, Study
 
 __all__ = ["FAMILIES", "PRELOADED", "Beside", "Forks", "executor", "outcome", "part_outcome", "uses"]
@@ -308,10 +308,10 @@ def uses(part: Study) -> tuple[str, ...]:
     return tuple(getattr(part, "uses", ()) or ())
 
 
-def outcome(family: str, script: str | None, part: str, used: dict[str, bytes] | None = None):
-    fam = FAMILIES.get(family)
-    if fam is None:  # a worker that was not forked from the builder: load the script itself
-        fam = FAMILIES[family] = load_family(script)
+def outcome(family: str, part: str, used: dict[str, bytes] | None = None):
+    """:func:`part_outcome` of ``part`` of the loaded ``family`` (:data:`FAMILIES`, which a
+    :class:`Forks` process inherits, or reads here where it cannot fork)."""
+    fam = FAMILIES[family]
     return part_outcome(next(p for p in fam.parts if p.name == part), Path("."), used)
 
 
