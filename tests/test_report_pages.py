@@ -383,3 +383,16 @@ def test_a_finding_of_a_built_machine_reads_as_withheld_not_as_a_proof_passed():
     page = _Page(html)
     (row,) = [r for r in page.tables[0]["rows"][1:] if r[0][1] == "machine"]
     assert row[2][0] == "built" and _summary(html) == ("built", "1 part: 1 built")
+
+
+def test_a_machine_s_smallest_clearance_is_shown_with_the_minimum_its_pair_was_judged_by():
+    """Seed 004's smallest clearance (a circlip beside a sleeve, 1.3 mm) passes against its pair's
+    own minimum of 1 mm; the page showed the machine's general 3 mm beside it, a figure the verdict
+    was not judged by (the record's key is ``minimum_mm``; seed 002's rows also say ``required_mm``)."""
+    from transplanter.report.headlines import headline
+
+    row = {"bodies": ["bore_circlip_front_1", "sleeve_front_1"], "kind": "in-plane", "figure_mm": 1.2995}
+    row |= {"min_mm": 1.2995, "minimum_mm": 1.0, "pass": True}
+    rec = {"kind": "machine", "results": {"machine": {"clearances": [row], "clearance_required_mm": 3.0}}}
+    shown = {name: value for name, value, _ in headline(rec)[0]}
+    assert shown["smallest clearance"] == "1.3" and shown["its clearance required"] == "1"

@@ -329,7 +329,8 @@ def _machine(res: dict, par: dict) -> tuple[list[Row], list[str]]:
         ("overlap in the assembly", _get(res, "assembly", "max_overlap_mm3"), "mm³"),
         ("smallest clearance", low.get("min_mm"), "mm"),
         ("between", " and ".join(map(str, low.get("bodies", []))) or None, ""),
-        ("its clearance required", low.get("required_mm", m.get("clearance_required_mm")) if low else None, "mm"),
+        # the pair's own minimum (``minimum_mm``, what its verdict was judged by), not the machine's
+        ("its clearance required", low.get("minimum_mm", m.get("clearance_required_mm")) if low else None, "mm"),
         ("poses passed", f"{sum(bool(p.get('pass')) for p in poses)} of {len(poses)}" if poses else None, ""),
         ("tip off under the gears' play", _get(m, "tip_under_play", "max_mm"), "mm"),
         ("smallest gap under the gears' play", _get(m, "under_play", "smallest_mm"), "mm"),
