@@ -111,3 +111,73 @@ def test_bad_placements_and_names_are_refused():
         step_bytes("x", [Placed("a", "p", 1, disc, frame()), Placed("a", "p", 1, disc, frame(5.0))])
     with pytest.raises(SpecError, match="overlap"):
         Solid((*Solid.ring(0, 5, 2).slabs, *Solid.ring(0, 5, 2).slabs))
+
+
+def test_the_lines_joined_are_the_file_opencascade_prints():
+    """Issue 46: the assembly's STEP lines are joined in Python, a few thousand at a time, not
+    printed by OpenCASCADE (which gathers the whole file in a C++ string first): the same bytes."""
+    from transplanter.shop import step, step_writing
+
+    occ = step._occ()
+    step_writing.write_settings(occ)
+    writer = occ.STEPControl_Writer()
+    shape = step.prism(_plate_contours(), 6.0)
+    assert writer.Transfer(shape, occ.STEPControl_StepModelType.STEPControl_AsIs, False) == occ.IFSelect_RetDone
+    step_writing.fixed_header(occ, writer, "bench")
+    lines = step_writing.sent(occ, writer)
+    assert lines.NbLines() > 20
+    joined = step_writing.joined(lines)
+    assert joined == step_writing.printed(lines, "bench")
+    assert joined.startswith(b"ISO-10303-21;\n") and joined.endswith(b"END-ISO-10303-21;\n")
+
+
+#: a machine's assembly files (3MF and STEP) made in processes of their own and here (run in a
+#: process of its own: the test workers' threads keep a fork from being made)
+FORKED = """
+import json, math, os
+import shapely
+from transplanter.families.machines.assembly import AssemblyFiles, _step_received
+from transplanter.families.machines.record import start_assembly
+from transplanter.machine.bodies import Body, Link
+from transplanter.proof.clearance import Posed
+from transplanter.shop.assembly_step import Placed, Solid, frame, write_checked
+from transplanter.shop.catalogue import bearing
+from transplanter.shop.assembly_step import solid_of
+
+plate = shapely.Polygon([(0, 0), (40, 0), (40, 20), (0, 20)]).difference(shapely.Point(12, 10).buffer(5, 64))
+bodies = [Body("plate", plate, (0.0, 6.0), "fixed"), Body("arm", plate, (7.0, 13.0), "arm")]
+links = {"fixed": Link.fixed(), "arm": Link("arm", lambda t: (0 * t + 5.0, 0 * t - 3.0, 0 * t + math.radians(30)))}
+ring = solid_of(bearing("6000"))
+placed = [Placed("bearing_1", "6000-2Z", 2, ring, frame(12.0, 10.0, -9.0)),
+          Placed("bearing_2", "6000-2Z", 2, ring, frame(12.0, 10.0, 21.0))]
+with AssemblyFiles() as files:
+    forked = [p._proc.pid for p in (files.threemf, files.step) if p._proc is not None]
+    files.start_assembly("bench", bodies, links, {})
+    files.step.send(("bench.assembly", placed))
+    step = files.step.result()
+    three = files.start_assembly_made()
+here_step = write_checked("bench.assembly", placed)
+here_three = start_assembly("bench", bodies, links, {})
+print(json.dumps({
+    "forked": forked, "me": os.getpid(),
+    "same_step": step[0] == here_step[0] and step[1] == here_step[1],
+    "same_3mf": three[0] == here_three[0] and three[1] == here_three[1],
+    "bodies": three[0]["bodies"],
+}))
+"""
+
+
+@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="no fork on this platform")
+def test_a_machine_s_assembly_files_made_in_processes_of_their_own_are_the_ones_made_here():
+    """Issue 46: a machine's assembly 3MF and STEP are made in two processes forked before it is
+    posed (``AssemblyFiles``), handed their bodies later — the same records and bytes as made in
+    the machine's own process."""
+    import json
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", FORKED], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert len(out["forked"]) == 2 and out["me"] not in out["forked"]
+    assert out["same_step"] and out["same_3mf"] and out["bodies"] == 2

@@ -99,7 +99,7 @@ def executor(jobs: int):
             _thaw()
 
 
-#: modules a build's parts import that :class:`Forks` imports once, before forking (each part's
+#: modules a build's parts import that :class:`Forks`'s fork server imports once (each part's
 #: fork then starts with them, shared, instead of importing them again: a cold build of every
 #: family took ~10 s more CPU without)
 PRELOADED = ("OCP.BRepPrimAPI", "OCP.STEPControl", "matplotlib.pyplot", "trimesh")
@@ -107,12 +107,12 @@ PRELOADED = ("OCP.BRepPrimAPI", "OCP.STEPControl", "matplotlib.pyplot", "trimesh
 
 class Forks:
     """Up to ``jobs`` processes, a fresh one for each task, each forked from one that holds only
-    what this process held on entering — the families loaded, :data:`PRELOADED` imported, frozen
-    (:func:`_freeze`): the fork server, forked on entering. A part built in one starts from that
-    state, not from what the builder has gathered since (the files of every part built before it),
-    and what it leaves behind — its garbage, its heap's holes, the caches of the libraries it used
-    — ends with it, instead of staying in a pool worker under every part that worker builds next
-    (issue 46).
+    what this process held on entering — the families loaded — and :data:`PRELOADED`, imported
+    there, all frozen (:func:`_freeze`): the fork server, forked on entering. A part built in one
+    starts from that state, not from what the builder has gathered since (the files of every
+    part built before it), and what it leaves behind — its garbage, its heap's holes, the caches
+    of the libraries it used — ends with it, instead of staying in a pool worker under every part
+    that worker builds next (issue 46).
 
     :meth:`submit` queues ``fn(*args)`` and returns its ticket; :meth:`next` hands the server what
     the limit allows and waits for the first task to end: ``(ticket, "value", value)``, ``(ticket,
@@ -133,14 +133,10 @@ class Forks:
         self._tickets = itertools.count()
 
     def __enter__(self) -> Forks:
-        import importlib
         import os
         import tempfile
         from multiprocessing.connection import Pipe
 
-        for name in PRELOADED:
-            with contextlib.suppress(ImportError):
-                importlib.import_module(name)
         self._server = None  # no fork to be had: each task is done here, in turn, when waited for
         self._froze = False
         if not hasattr(os, "fork"):
@@ -162,6 +158,7 @@ class Forks:
             try:
                 self._tasks.close()
                 self._results.close()
+                _preload()
                 _serve(tasks, results, self._dir)
             except BaseException:
                 code = 1
@@ -229,6 +226,19 @@ class Forks:
             kind, value = pickle.load(f)
         os.remove(said)
         return ticket, kind, value
+
+
+def _preload() -> None:
+    """:data:`PRELOADED` imported here (the fork server: not the builder, which never uses them —
+    OpenCASCADE's import alone is ~230 MB, which the builder would hold under every part's files
+    it gathers), and frozen with the rest (:func:`_freeze`)."""
+    import gc
+    import importlib
+
+    for name in PRELOADED:
+        with contextlib.suppress(ImportError):
+            importlib.import_module(name)
+    gc.freeze()
 
 
 def _serve(tasks, results, folder: str) -> None:

@@ -33,6 +33,7 @@ plane, or nearest it.
 
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass
 
@@ -41,8 +42,9 @@ import numpy as np
 from transplanter.core.errors import ExportError, GeometryError, SpecError
 from transplanter.core.precision import significant
 from transplanter.core.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM
+from transplanter.families.builder.workers import Beside
 from transplanter.families.machines.bill import bom_from_csv, bom_record, machine_bom, made_files, made_records
-from transplanter.families.machines.record import BOUGHT, OBSTACLE, outline_layer
+from transplanter.families.machines.record import BOUGHT, OBSTACLE, outline_layer, start_assembly
 from transplanter.report.machine_picture import assembly_picture
 from transplanter.shop import assembly_drawing, assembly_read, assembly_step, catalogue, formats
 from transplanter.shop.bom import Bom, BoughtPart
@@ -54,6 +56,7 @@ __all__ = [
     "bought_parts",
     "start_pose",
     "assembly_order",
+    "AssemblyFiles",
     "machine_documents",
     "documents_and_assembly",
     "check_documents",
@@ -184,6 +187,50 @@ def assembly_order(steps: list[tuple[tuple[float, float], str, bool]]) -> tuple[
     )
 
 
+class AssemblyFiles:
+    """A machine's two largest files, its assembly 3MF
+    (:func:`~transplanter.families.machines.record.start_assembly`: written, re-read and checked
+    for overlaps) and its assembly STEP (:func:`~transplanter.shop.assembly_step.write_checked`),
+    each made in a process of its own forked when this block is entered — before the machine is
+    posed and judged, while the part's process holds little — and handed its bodies once they are
+    known. Issue 46: the 3MF's re-read with trimesh and its overlap check (~210 MB for seed 002's)
+    and OpenCASCADE's model of the assembly and its text (~230 MB) no longer stack on what the
+    judge and the documents hold in one process, nor on each other: seed 002's machine built in
+    one process peaked at 717 MB in the build, its three now at 537 MB at most. A
+    :class:`~transplanter.families.builder.workers.Beside` each: where no process can be forked,
+    each file is made here when its result is asked, the same bytes."""
+
+    def __enter__(self) -> AssemblyFiles:
+        with contextlib.ExitStack() as stack:
+            self.threemf = stack.enter_context(Beside(_start_assembly_received, inbox=True))
+            self.step = stack.enter_context(Beside(_step_received, inbox=True))
+            self._stack = stack.pop_all()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._stack.close()  # (a process not asked for its file — the part failed — is stopped)
+
+    def start_assembly(self, name: str, bodies, links, at: dict) -> None:
+        """:func:`~transplanter.families.machines.record.start_assembly` of ``bodies`` (posed by
+        ``links`` at the start, or ``at[link]``) begun in its process (:meth:`start_assembly_made`)."""
+        poses = {b.link: start_pose(b.link, links, at) for b in bodies}
+        self.threemf.send((name, list(bodies), poses))
+
+    def start_assembly_made(self) -> tuple[dict, dict[str, bytes]]:
+        """The 3MF's record and file (waiting for its process)."""
+        return self.threemf.result()
+
+
+def _start_assembly_received(receive) -> tuple[dict, dict[str, bytes]]:
+    name, bodies, poses = receive()
+    return start_assembly(name, bodies, {}, poses)
+
+
+def _step_received(receive) -> tuple[bytes, dict]:
+    name, placed = receive()
+    return assembly_step.write_checked(name, placed)
+
+
 def machine_documents(*args, **kwargs) -> tuple[dict, dict[str, bytes]]:
     """The bill of materials, assembly STEP, assembly drawing and picture of a machine: the record
     and the files of :func:`documents_and_assembly` (its arguments)."""
@@ -201,6 +248,7 @@ def documents_and_assembly(
     own: tuple[dict, ...] = (),
     order: tuple[str, ...] | None = None,
     made: tuple[MadeBody, ...] = (),
+    step: Beside | None = None,
 ) -> tuple[dict, dict[str, bytes], Bom, list[assembly_step.Placed]]:
     """The bill of materials, assembly STEP, assembly drawing and picture of the machine ``name``
     (module docstring) from its judged ``bodies`` (posed by ``links``, or ``at[link]`` at the
@@ -209,7 +257,9 @@ def documents_and_assembly(
     (their results, each with its ``stem``). Returns the record (``bill_of_materials``,
     ``assembly_step``, ``assembly_drawing``), the files, and the bill of materials and the
     assembly's placed bodies they were made from (what the machine's mass properties are read
-    from: :mod:`~transplanter.families.machines.loads`)."""
+    from: :mod:`~transplanter.families.machines.loads`). ``step``: the process the STEP is written
+    in (:attr:`AssemblyFiles.step`), handed its bodies and asked for the file once the drawing and
+    the picture are made (else it is written here, then)."""
     bought = [BoughtBody.like(b) for b in bought]
     records = made_records(files, own)
     bom = machine_bom(name, files, records, bought_parts(bought))
@@ -218,13 +268,8 @@ def documents_and_assembly(
     out.update(more)
     placed, outlines, steps, fit = _placed(bom, records, bodies, links, at, files, bought, made)
     _one_body_each(name, bom, placed)
-    data, written = assembly_step.write_checked(f"{name}.assembly", placed)
-    record["assembly_step"] = {
-        "file": f"{name}.assembly.step",
-        **written,
-        "made_volume_vs_record_rel": significant(fit),
-    }
-    out[f"{name}.assembly.step"] = data
+    if step is not None:
+        step.send((f"{name}.assembly", placed))
     order = order if order is not None else assembly_order(steps)
     head = ["item", "qty", "name", "designation or material", "mass each"]
     rows = [[r[0], r[2], r[1], r[6] or r[4], f"{r[8]} kg"] for r in bom.rows()[1:]]
@@ -241,6 +286,13 @@ def documents_and_assembly(
         "balloons": len(shown),
         "order": list(order),
     }
+    data, written = step.result() if step is not None else assembly_step.write_checked(f"{name}.assembly", placed)
+    record["assembly_step"] = {
+        "file": f"{name}.assembly.step",
+        **written,
+        "made_volume_vs_record_rel": significant(fit),
+    }
+    out[f"{name}.assembly.step"] = data
     return record, out, bom, placed
 
 

@@ -69,12 +69,18 @@ from transplanter.families.machines import (
     carrier_posing,
     shafts,
 )
-from transplanter.families.machines.assembly import BoughtBody, check_documents, documents_and_assembly, start_pose
+from transplanter.families.machines.assembly import (
+    AssemblyFiles,
+    BoughtBody,
+    check_documents,
+    documents_and_assembly,
+    start_pose,
+)
 from transplanter.families.machines.carrier_making import BOUGHT, CarrierPartsStudy
 from transplanter.families.machines.carrier_structure import CarrierStructure
 from transplanter.families.machines.layers import CarrierLayers
 from transplanter.families.machines.loads import supports_short
-from transplanter.families.machines.record import judged_again, obstacle_file, start_assembly
+from transplanter.families.machines.record import judged_again, obstacle_file
 from transplanter.families.mechanisms.cams import CamStudy
 from transplanter.families.pairs.toothed import ToothedPairStudy
 from transplanter.machine.carriers import DoubleCarrierMachine
@@ -193,6 +199,10 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         raise GeometryError(f"{self.name} is built from the files of {list(self.uses)} (the builder gives them)")
 
     def build_using(self, out: Path, used: dict[str, bytes]) -> Built:
+        with AssemblyFiles() as assembly:  # its processes forked now, while this one holds little
+            return self._built(used, assembly)
+
+    def _built(self, used: dict[str, bytes], assembly: AssemblyFiles) -> Built:
         machine, posed_from = carrier_posing.made_machine(self, used)
         files: dict[str, bytes] = {}
         results: dict = {}
@@ -213,12 +223,13 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         # with balloons, the picture (the structure's turned parts by their solids, its bought parts)
         shop = {**used, **files}
         shown, bought, made = carrier_bodies.assembly_inputs(self, judged, shop)
-        results["assembly"], more = start_assembly(self.name, shown, judged["links"], {})
-        files.update(more)
+        assembly.start_assembly(self.name, shown, judged["links"], {})
         documents, more, bom, placed = documents_and_assembly(
-            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made
+            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made, step=assembly.step
         )
         results.update(documents)
+        files.update(more)
+        results["assembly"], more = assembly.start_assembly_made()
         files.update(more)
         # the machine under load: masses from the assembly's bodies, the designed motion (issue 44)
         links_of = {b.name: b.link for b in [*judged["bodies"], *made, *bought]}

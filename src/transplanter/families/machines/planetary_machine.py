@@ -58,13 +58,19 @@ from transplanter.design.planetary import DifferentialTrain
 from transplanter.families.builder.making import Making, check_shop_files, manufacture
 from transplanter.families.builder.study import Built, Checked, StudyDefaults
 from transplanter.families.machines import planetary_judging, planetary_loads, planetary_parts, planetary_posing, shafts
-from transplanter.families.machines.assembly import BoughtBody, check_documents, documents_and_assembly, start_pose
+from transplanter.families.machines.assembly import (
+    AssemblyFiles,
+    BoughtBody,
+    check_documents,
+    documents_and_assembly,
+    start_pose,
+)
 from transplanter.families.machines.bought import planetary_bought
 from transplanter.families.machines.judging import PHASES
 from transplanter.families.machines.layers import Layers
 from transplanter.families.machines.loads import supports_short
 from transplanter.families.machines.planetary_structure import Structure
-from transplanter.families.machines.record import judged_again, start_assembly
+from transplanter.families.machines.record import judged_again
 from transplanter.families.pairs.toothed import ToothedPairStudy
 from transplanter.machine.arm_parts import ArmParts, arm_parts
 from transplanter.shop import solids
@@ -143,6 +149,10 @@ class PlanetaryMachineStudy(StudyDefaults):
         raise GeometryError(f"{self.name} is built from the files of {list(self.uses)} (the builder gives them)")
 
     def build_using(self, out: Path, used: dict[str, bytes]) -> Built:
+        with AssemblyFiles() as assembly:  # its processes forked now, while this one holds little
+            return self._built(used, assembly)
+
+    def _built(self, used: dict[str, bytes], assembly: AssemblyFiles) -> Built:
         record, names, turn = planetary_posing.inputs(self, used)
         module = float(record["module_mm"])
         n = self.train.planets
@@ -190,16 +200,17 @@ class PlanetaryMachineStudy(StudyDefaults):
         at = planetary_posing.start_poses(self, record)  # the planets in the middle of their play
         links = {**machine.links, **design.links}
         shown = planetary_parts.planes_of_3mf(judged["bodies"], design)
-        results["assembly"], more = start_assembly(self.name, shown, links, at)
-        files.update(more)
+        assembly.start_assembly(self.name, shown, links, at)
         # the bill of materials, the assembly STEP and drawing with balloons, the picture
         shop, own = {**used, **files}, (results["arm_plate"], results["needle"], *made)
         bought = [*planetary_bought(planetary_parts.drawn(judged["bodies"], design), shop), *design.fitted]
         made_bodies = planetary_parts.made_bodies(design)
         documents, more, bom, placed = documents_and_assembly(
-            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies
+            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies, step=assembly.step
         )
         results.update(documents)
+        files.update(more)
+        results["assembly"], more = assembly.start_assembly_made()
         files.update(more)
         # the machine under load: masses from the assembly's bodies, the designed motion (issue 44)
         links_of = {b.name: b.link for b in [*judged["bodies"], *made_bodies, *bought]}
