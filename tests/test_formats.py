@@ -204,3 +204,34 @@ def test_sector_cuts_follow_the_edges_where_they_crowd():
     rep = step.solid_report(shape)
     assert rep.solids == 1 and rep.valid
     assert abs(rep.volume / (step.arcs_area(contours) * 8.0) - 1) < 1e-9
+
+
+def test_3mf_is_re_read_in_lib3mf_s_strict_mode_and_a_body_placed_twice_is_refused(made):
+    """Issue 46: the build re-reads a 3MF with lib3mf in strict mode — a file its warnings would
+    flag (trimesh's raw package, with the production extension's attributes) is refused, and so is
+    one whose two build items place one object — each body where its build item puts it."""
+    import io
+    import re
+    import zipfile
+
+    from transplanter.shop.stl import canonical_mesh
+
+    _, _, part = made
+    scene = trimesh.Scene()
+    scene.add_geometry(trimesh.creation.box((10.0, 10.0, 10.0)), node_name="a", geom_name="a")
+    with pytest.raises(ExportError, match="Invalid Attribute"):
+        formats.THREEMF.read(trimesh.exchange.threemf.export_3MF(scene))
+    at = threemf.placement(x=500.0, angle=0.3)
+    data = formats.THREEMF.write([("a", part.solid, at)])
+    model = zipfile.ZipFile(io.BytesIO(data)).read("3D/3dmodel.model")
+    item = re.search(rb"<item [^>]*/>", model).group(0)
+    out = io.BytesIO()
+    with zipfile.ZipFile(io.BytesIO(data)) as src, zipfile.ZipFile(out, "w") as dst:
+        for info in src.infolist():
+            dst.writestr(info, model.replace(item, item + item) if info.filename.endswith(".model") else src.read(info))
+    with pytest.raises(ExportError, match="places the body a twice"):
+        formats.THREEMF.read(out.getvalue())
+    placed = formats.THREEMF.read(data)["a"]
+    expected = canonical_mesh(part.solid).apply_transform(at)
+    assert placed.faces.tolist() == expected.faces.tolist()
+    assert np.abs(placed.vertices - expected.vertices).max() < 5e-5  # single precision at 500 mm
