@@ -12,7 +12,7 @@ otherwise forks beside itself (STEPs, plots, a machine's assembly files) — tim
 the libraries the brief chose for the outputs (OpenCASCADE: the STEP solid, transfer, file and
 volume, a part's and a machine's assembly; matplotlib:
 laying out and rendering each figure as PNG and SVG; trimesh: writing the 3MF and STL, re-reading
-the 3MF and STL; manifold3d: the Boolean subtraction and the assembly's overlap check; ezdxf:
+the STL; lib3mf: re-reading the 3MF; manifold3d: the Boolean subtraction and the assembly's overlap check; ezdxf:
 writing and parsing the DXF), and the imports and part-script loading the builder does before
 any part starts. The wall time of a build on N cores is at least (library time)/N + that start:
 what remains when our own code takes no time at all. And the peak of a process that only reads
@@ -80,8 +80,8 @@ CALLS = {
     "OpenCASCADE (STEP)": [(step, "_occ"), (step, "prism"), (step, "step_bytes"), (step, "solid_report"),
                            (assembly_step, "write_checked")],
     "matplotlib (PNG + SVG)": [(plots, "figure_files"), (matplotlib.figure.Figure, "tight_layout")],
-    "trimesh (3MF, STL)": [(trimesh.exchange.threemf, "export_3MF"), (trimesh.exchange.stl, "export_stl"),
-                           (trimesh, "load")],
+    "trimesh, lib3mf (3MF, STL)": [(trimesh.exchange.threemf, "export_3MF"), (trimesh.exchange.stl, "export_stl"),
+                                   (trimesh, "load"), (threemf, "read_assembly")],
     "manifold3d (Booleans)": [(solids, "check_solid"), (threemf, "overlaps")],
     "ezdxf (DXF)": [(ezdxf, "read"), (dxf, "_write")],
 }
