@@ -298,3 +298,42 @@ def test_where_no_process_can_be_forked_the_build_s_tasks_are_done_here(monkeypa
         got, kind, value = pool.next()
         assert (got, kind) == (failed, "error") and isinstance(value, GeometryError)
         assert len(pool) == 0
+
+
+#: a process whose Beside waits on its inbox, killed before it sends anything (run in a process of
+#: its own: the test workers' threads keep a fork from being made)
+ORPHAN = """
+import os, signal, sys, time
+from transplanter.families.builder.workers import Beside
+def wait(receive):
+    return receive()
+work = Beside(wait, inbox=True)
+print(work._proc.pid if work._proc is not None else -1, flush=True)
+os.kill(os.getpid(), signal.SIGKILL)
+"""
+
+
+def _ended(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/status") as f:
+            return any(line.startswith("State:") and "Z" in line for line in f)  # a zombie: ended
+    except FileNotFoundError:
+        return True
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="reads /proc")
+def test_a_fork_waiting_on_its_inbox_ends_when_its_parent_is_killed():
+    """A process stopped while its work beside it waits on its inbox (the build stopped: the fork
+    server kills a part's process) leaves nothing waiting: the fork holds no writing end of its
+    own inbox, so the inbox ends with the parent and so does the fork (it waited for ever)."""
+    import subprocess
+    import sys
+
+    proc = subprocess.run([sys.executable, "-c", ORPHAN], capture_output=True, text=True, timeout=120)
+    pid = int(proc.stdout.split()[0])
+    assert pid > 0, proc.stderr
+    deadline = time.monotonic() + 20.0
+    while not _ended(pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _ended(pid)
+    assert "Traceback" not in proc.stderr

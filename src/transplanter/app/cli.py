@@ -24,6 +24,7 @@ shop files, meshing proof on them, report (:mod:`transplanter.families.pairs.gea
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 from pathlib import Path
@@ -52,7 +53,11 @@ def main(argv: list[str] | None = None) -> int:
     cannot act on the terminal."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        return _main(argv)
+        with _terminated_as_interrupted():
+            return _main(argv)
+    except _Terminated:
+        print("transplanter: terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print("transplanter: interrupted", file=sys.stderr)
         return 130
@@ -69,6 +74,32 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
+
+
+class _Terminated(BaseException):
+    """SIGTERM received (a ``timeout``, a service stopping): raised where the command is, so that
+    what it holds is let go as on Ctrl-C — a build's fork server and its temporary folder, an
+    export's staging folder — instead of the process ending where it stands."""
+
+
+@contextlib.contextmanager
+def _terminated_as_interrupted():
+    """SIGTERM raises :class:`_Terminated` while the command runs (the process's own handler
+    restored after; left alone off the main thread, or where a handler is already set)."""
+    import signal
+    import threading
+
+    def stop(signum, frame):
+        raise _Terminated
+
+    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGTERM) != signal.SIG_DFL:
+        yield
+        return
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _paths_in(argv: list[str]) -> list[Path]:

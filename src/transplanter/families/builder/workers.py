@@ -326,21 +326,27 @@ def outcome(family: str, part: str, used: dict[str, bytes] | None = None):
 
 
 #: the work a :class:`Beside` hands its forked process, by key: the fork inherits it (nothing
-#: pickled), with the reading end of its inbox (None without one)
-_BESIDE: dict[int, tuple[Callable[..., Any], tuple, Any]] = {}
+#: pickled), with the reading and writing ends of its inbox (None without one)
+_BESIDE: dict[int, tuple[Callable[..., Any], tuple, Any, Any]] = {}
 _KEYS = itertools.count()
 
 
 def _run_beside(key: int, conn) -> None:
-    fn, args, inbox = _BESIDE[key]
+    fn, args, inbox, outbox = _BESIDE[key]
+    if outbox is not None:  # its inbox's writing end is its parent's alone: the parent gone, the
+        outbox.close()  # inbox ends (EOF) and so does this process, not waiting on it for ever
     try:
         out: tuple[str, Any] = ("value", fn(*args, inbox.recv) if inbox is not None else fn(*args))
     except BaseException as exc:  # the work's error, raised in the parent
         out = ("error", exc)
     try:
         conn.send(out)
+    except OSError:  # the parent gone (stopped): no one to answer
+        pass
     except Exception as exc:  # a value or error that does not pickle: said, not lost
-        conn.send(("error", TransplanterError(f"work beside the build could not return: {type(exc).__name__}: {exc}")))
+        said = f"work beside the build could not return: {type(exc).__name__}: {exc}"
+        with contextlib.suppress(OSError):
+            conn.send(("error", TransplanterError(said)))
     finally:
         conn.close()
 
@@ -382,7 +388,7 @@ class Beside:
         key = next(_KEYS)
         receive, send = ctx.Pipe(duplex=False)
         mail, post = ctx.Pipe(duplex=False) if inbox else (None, None)
-        _BESIDE[key] = (fn, args, mail)
+        _BESIDE[key] = (fn, args, mail, post)
         try:  # a daemon: ended with this process, and itself without children
             proc = ctx.Process(target=_run_beside, args=(key, send), daemon=True)
             self._froze = _freeze()
