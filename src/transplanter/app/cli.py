@@ -53,8 +53,7 @@ def main(argv: list[str] | None = None) -> int:
     cannot act on the terminal."""
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
-        with _terminated_as_interrupted():
-            return _main(argv)
+        return _main(argv)
     except _Terminated:
         print("transplanter: terminated", file=sys.stderr)
         return 143
@@ -79,7 +78,8 @@ def main(argv: list[str] | None = None) -> int:
 class _Terminated(BaseException):
     """SIGTERM received (a ``timeout``, a service stopping): raised where the command is, so that
     what it holds is let go as on Ctrl-C — a build's fork server and its temporary folder, an
-    export's staging folder — instead of the process ending where it stands."""
+    export's staging folder — instead of the process ending where it stands. Not for the design
+    studio: its server's event loop would take the exception for a callback's and run on."""
 
 
 @contextlib.contextmanager
@@ -367,21 +367,22 @@ def _main(argv: list[str]) -> int:
         )
     args = parser.parse_args(expression_last(list(argv)))
     try:
-        if args.command == "build":
-            if args.jobs is not None and args.jobs < 1:
-                parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
-            return _cmd_build(args)
-        if args.command in ("optimise", "optimize"):
-            return _cmd_optimise(args)  # its numbers checked as they were parsed (integer_in)
-        if args.command == "check":
-            return _cmd_check(args)
-        if args.command == "design":
+        if args.command == "design":  # (a server: SIGTERM ends it at once, as before)
             from transplanter.app.studio import run as design
 
             return design(args)
-        if args.command == "pair":
-            return _cmd_pair(args)
-        return _cmd_analyse(args)
+        with _terminated_as_interrupted():
+            if args.command == "build":
+                if args.jobs is not None and args.jobs < 1:
+                    parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
+                return _cmd_build(args)
+            if args.command in ("optimise", "optimize"):
+                return _cmd_optimise(args)  # its numbers checked as they were parsed (integer_in)
+            if args.command == "check":
+                return _cmd_check(args)
+            if args.command == "pair":
+                return _cmd_pair(args)
+            return _cmd_analyse(args)
     except TransplanterError as exc:  # bad input (2), or fine input whose files could not be written (1)
         print(shown(f"transplanter: error: {exc}"), file=sys.stderr)
         return 1 if isinstance(exc, ExportError) else 2
