@@ -79,7 +79,7 @@ class _Terminated(BaseException):
     """SIGTERM received (a ``timeout``, a service stopping): raised where the command is, so that
     what it holds is let go as on Ctrl-C — a build's fork server and its temporary folder, an
     export's staging folder — instead of the process ending where it stands. Not for the design
-    studio: its server's event loop would take the exception for a callback's and run on."""
+    studio: raised there, its server ran on (its tests, which stop it so, waited for ever)."""
 
 
 @contextlib.contextmanager
