@@ -10,10 +10,10 @@ Goal: <= 10 s wall on 2 cores, <= 300 MB peak.
 Then the floor those goals meet: a third, serial build — in one process, with the work a part
 otherwise forks beside itself (STEPs, plots, a machine's assembly files) — times every call into
 the libraries the brief chose for the outputs (OpenCASCADE: the STEP solid, transfer, file and
-volume, a part's and a machine's assembly; matplotlib:
-laying out and rendering each figure as PNG and SVG; trimesh: writing the 3MF and STL, re-reading
-the STL; lib3mf: re-reading the 3MF; manifold3d: the Boolean subtraction and the assembly's overlap check; ezdxf:
-writing and parsing the DXF), and the imports and part-script loading the builder does before
+volume, a part's and a machine's assembly; matplotlib: laying out and rendering each figure as
+PNG and SVG; trimesh: writing the 3MF and STL, re-reading the STL; lib3mf: re-reading the 3MF;
+manifold3d: the Boolean subtraction and the assembly's overlap check; ezdxf: writing and parsing
+the DXF), and the imports and part-script loading the builder does before
 any part starts. The wall time of a build on N cores is at least (library time)/N + that start:
 what remains when our own code takes no time at all. And the peak of a process that only reads
 the largest part's DXF (the seed-004 ring) and writes its STEP: the memory floor of a build that

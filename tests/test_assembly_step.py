@@ -5,6 +5,7 @@ body, of its volume, where it was placed."""
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -136,13 +137,11 @@ def test_the_lines_joined_are_the_file_opencascade_prints():
 FORKED = """
 import json, math, os
 import shapely
-from transplanter.families.machines.assembly import AssemblyFiles, _step_received
+from transplanter.families.machines.assembly import AssemblyFiles
 from transplanter.families.machines.record import start_assembly
 from transplanter.machine.bodies import Body, Link
-from transplanter.proof.clearance import Posed
-from transplanter.shop.assembly_step import Placed, Solid, frame, write_checked
+from transplanter.shop.assembly_step import Placed, frame, solid_of, write_checked
 from transplanter.shop.catalogue import bearing
-from transplanter.shop.assembly_step import solid_of
 
 plate = shapely.Polygon([(0, 0), (40, 0), (40, 20), (0, 20)]).difference(shapely.Point(12, 10).buffer(5, 64))
 bodies = [Body("plate", plate, (0.0, 6.0), "fixed"), Body("arm", plate, (7.0, 13.0), "arm")]
@@ -167,7 +166,7 @@ print(json.dumps({
 """
 
 
-@pytest.mark.skipif(not hasattr(__import__("os"), "fork"), reason="no fork on this platform")
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="no fork on this platform")
 def test_a_machine_s_assembly_files_made_in_processes_of_their_own_are_the_ones_made_here():
     """Issue 46: a machine's assembly 3MF and STEP are made in two processes forked before it is
     posed (``AssemblyFiles``), handed their bodies later — the same records and bytes as made in

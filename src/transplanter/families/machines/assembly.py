@@ -44,7 +44,7 @@ from transplanter.core.precision import significant
 from transplanter.core.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM
 from transplanter.families.builder.workers import Beside
 from transplanter.families.machines.bill import bom_from_csv, bom_record, machine_bom, made_files, made_records
-from transplanter.families.machines.record import BOUGHT, OBSTACLE, outline_layer, start_assembly
+from transplanter.families.machines.record import BOUGHT, OBSTACLE, outline_layer, start_assembly, start_pose
 from transplanter.report.machine_picture import assembly_picture
 from transplanter.shop import assembly_drawing, assembly_read, assembly_step, catalogue, formats
 from transplanter.shop.bom import Bom, BoughtPart
@@ -138,13 +138,6 @@ def bought_parts(bodies: list[BoughtBody]) -> list[BoughtPart]:
     for b in bodies:
         count.setdefault(b.key(), []).append(b)
     return [group[0].bought_part(len(group)) for _, group in sorted(count.items())]
-
-
-def start_pose(link: str, links, at: dict) -> tuple[float, float, float]:
-    """Where ``link`` sits at the start: ``at[link]`` or its pose at driver angle 0, (x, y mm, angle rad)."""
-    if at.get(link) is not None:
-        return tuple(float(v) for v in at[link])
-    return tuple(float(np.asarray(v).ravel()[0]) for v in links[link].pose(np.zeros(1)))
 
 
 def _compose(pose, b: BoughtBody | MadeBody) -> tuple[np.ndarray, tuple[float, float, float]]:

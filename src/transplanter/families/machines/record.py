@@ -42,6 +42,7 @@ __all__ = [
     "judged_again",
     "pictures",
     "start_assembly",
+    "start_pose",
 ]
 
 #: the suffix of an obstacle's section (the seedling box, the soil): a DXF that is not a part
@@ -170,6 +171,13 @@ def pictures(name: str, bodies, links, tips, judged, phases, labels) -> dict[str
     return {f"{name}.animation.gif": gif, f"{name}.slider.js": script}
 
 
+def start_pose(link: str, links, at: dict) -> tuple[float, float, float]:
+    """Where ``link`` sits at the start: ``at[link]`` or its pose at driver angle 0, (x, y mm, angle rad)."""
+    if at.get(link) is not None:
+        return tuple(float(v) for v in at[link])
+    return tuple(float(np.asarray(v).ravel()[0]) for v in links[link].pose(np.zeros(1)))
+
+
 def start_assembly(name: str, bodies, links, at: dict) -> tuple[dict, dict[str, bytes]]:
     """``<name>.assembly.3mf``: each moving body's re-read section extruded on its layer where it
     sits at the start (its link's pose at 0, or ``at[link]``), re-read and verified."""
@@ -177,7 +185,7 @@ def start_assembly(name: str, bodies, links, at: dict) -> tuple[dict, dict[str, 
     for b in bodies:
         if b.link == "fixed" and b.dxf.endswith(OBSTACLE):
             continue
-        x, y, a = at.get(b.link) or (float(np.asarray(v).ravel()[0]) for v in links[b.link].pose(np.zeros(1)))
+        x, y, a = start_pose(b.link, links, at)
         width = b.z[1] - b.z[0]
         solid = solids.part_solid(b.section, shapely.Polygon(), solids.Features(), width)
         placed.append((b.name, solid, formats.placement(x, y, b.z[0], a)))
