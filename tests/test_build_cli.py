@@ -735,28 +735,3 @@ def test_a_generation_goes_out_in_batches_that_shrink_to_one_candidate(workers):
         assert sizes[-1] == 1
         assert sum(sizes[:workers]) >= n // 2  # the first round takes half the generation
         assert len(bounds) <= workers * (2 + n.bit_length())  # a round per halving
-
-
-@pytest.mark.skipif(not hasattr(os, "fork"), reason="the parallel build forks")
-def test_a_build_stopped_by_sigterm_says_so_and_leaves_no_process_or_temporary_folder(tmp_path, parts_dir):
-    """SIGTERM (a ``timeout``, a service stopping) stops a build as Ctrl-C does: exit 143, said in
-    one line, and its fork server, its parts' processes and their temporary folder gone with it."""
-    import signal
-    import subprocess
-    import time
-
-    temp = tmp_path / "tmp"
-    temp.mkdir()
-    env = dict(os.environ, TMPDIR=str(temp))
-    script, out = str(parts_dir / "fourbar_seed000.py"), str(tmp_path / "out")
-    args = [sys.executable, "-m", "transplanter", "build", script, "-o", out, "--jobs", "2"]
-    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
-    deadline = time.monotonic() + 60.0
-    while not any(temp.glob("transplanter-forks-*")) and proc.poll() is None and time.monotonic() < deadline:
-        time.sleep(0.02)
-    assert proc.poll() is None, "the build ended before its fork server started"
-    proc.send_signal(signal.SIGTERM)
-    _, err = proc.communicate(timeout=60)
-    assert proc.returncode == 143, err
-    assert err.strip().splitlines()[-1] == "transplanter: terminated" and "Traceback" not in err
-    assert not list(temp.iterdir())

@@ -24,7 +24,6 @@ shop files, meshing proof on them, report (:mod:`transplanter.families.pairs.gea
 from __future__ import annotations
 
 import argparse
-import contextlib
 import os
 import sys
 from pathlib import Path
@@ -54,9 +53,6 @@ def main(argv: list[str] | None = None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     try:
         return _main(argv)
-    except _Terminated:
-        print("transplanter: terminated", file=sys.stderr)
-        return 143
     except KeyboardInterrupt:
         print("transplanter: interrupted", file=sys.stderr)
         return 130
@@ -73,33 +69,6 @@ def main(argv: list[str] | None = None) -> int:
             file=sys.stderr,
         )
         return 1
-
-
-class _Terminated(BaseException):
-    """SIGTERM received (a ``timeout``, a service stopping): raised where the command is, so that
-    what it holds is let go as on Ctrl-C — a build's fork server and its temporary folder, an
-    export's staging folder — instead of the process ending where it stands. Not for the design
-    studio: raised there, its server ran on (its tests, which stop it so, waited for ever)."""
-
-
-@contextlib.contextmanager
-def _terminated_as_interrupted():
-    """SIGTERM raises :class:`_Terminated` while the command runs (the process's own handler
-    restored after; left alone off the main thread, or where a handler is already set)."""
-    import signal
-    import threading
-
-    def stop(signum, frame):
-        raise _Terminated
-
-    if threading.current_thread() is not threading.main_thread() or signal.getsignal(signal.SIGTERM) != signal.SIG_DFL:
-        yield
-        return
-    signal.signal(signal.SIGTERM, stop)
-    try:
-        yield
-    finally:
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 def _paths_in(argv: list[str]) -> list[Path]:
@@ -367,22 +336,21 @@ def _main(argv: list[str]) -> int:
         )
     args = parser.parse_args(expression_last(list(argv)))
     try:
-        if args.command == "design":  # (a server: SIGTERM ends it at once, as before)
+        if args.command == "build":
+            if args.jobs is not None and args.jobs < 1:
+                parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
+            return _cmd_build(args)
+        if args.command in ("optimise", "optimize"):
+            return _cmd_optimise(args)  # its numbers checked as they were parsed (integer_in)
+        if args.command == "check":
+            return _cmd_check(args)
+        if args.command == "design":
             from transplanter.app.studio import run as design
 
             return design(args)
-        with _terminated_as_interrupted():
-            if args.command == "build":
-                if args.jobs is not None and args.jobs < 1:
-                    parser.error(f"--jobs = {args.jobs} is out of range: must be >= 1")
-                return _cmd_build(args)
-            if args.command in ("optimise", "optimize"):
-                return _cmd_optimise(args)  # its numbers checked as they were parsed (integer_in)
-            if args.command == "check":
-                return _cmd_check(args)
-            if args.command == "pair":
-                return _cmd_pair(args)
-            return _cmd_analyse(args)
+        if args.command == "pair":
+            return _cmd_pair(args)
+        return _cmd_analyse(args)
     except TransplanterError as exc:  # bad input (2), or fine input whose files could not be written (1)
         print(shown(f"transplanter: error: {exc}"), file=sys.stderr)
         return 1 if isinstance(exc, ExportError) else 2
