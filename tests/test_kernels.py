@@ -1,5 +1,6 @@
 """The same floating-point kernels on every x86-64 machine with AVX2 (``transplanter._same_kernels``):
-exports byte-identical wherever they are rebuilt (docs/cli.md, build)."""
+exports byte-identical wherever they are rebuilt (docs/cli.md, build); one OpenBLAS thread per
+process (``transplanter._one_blas_thread``)."""
 
 import os
 import subprocess
@@ -9,7 +10,7 @@ import pytest
 
 import transplanter
 
-pytestmark = pytest.mark.skipif(
+avx2 = pytest.mark.skipif(
     "avx2" not in transplanter._x86_flags(), reason="the pin applies to x86-64 machines with AVX2"
 )
 
@@ -17,7 +18,8 @@ SHOW = "import os; print(os.environ.get('OPENBLAS_CORETYPE'), os.environ.get('NP
 
 
 def _run(code: str, **env: str) -> str:
-    clean = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES")}
+    pinned = ("OPENBLAS_CORETYPE", "NPY_DISABLE_CPU_FEATURES", "OPENBLAS_NUM_THREADS")
+    clean = {k: v for k, v in os.environ.items() if k not in pinned}
     out = subprocess.run(
         [sys.executable, "-W", "error::ImportWarning", "-c", code], env={**clean, **env}, capture_output=True, text=True
     )
@@ -25,6 +27,7 @@ def _run(code: str, **env: str) -> str:
     return out.stdout.strip()
 
 
+@avx2
 def test_importing_transplanter_pins_the_kernels_before_numpy():
     from importlib.metadata import version
 
@@ -35,6 +38,28 @@ def test_importing_transplanter_pins_the_kernels_before_numpy():
     assert cpu == "True"
 
 
+@avx2
 def test_a_users_settings_and_an_earlier_numpy_are_left_alone():
     assert _run(f"import transplanter; {SHOW}", OPENBLAS_CORETYPE="Zen").startswith("Zen ")
     assert _run(f"import numpy, transplanter; {SHOW}") == "None None"
+
+
+#: numpy's OpenBLAS asked how many threads it runs (its symbols carry scipy-openblas's prefix and
+#: suffix in numpy's wheels, none in a system OpenBLAS)
+BLAS_THREADS = """
+import ctypes, sys
+import transplanter, numpy
+lib = next(line.split()[-1] for line in open('/proc/self/maps') if 'openblas' in line.lower() and '.so' in line)
+blas = ctypes.CDLL(lib)
+names = ('scipy_openblas_get_num_threads64_', 'scipy_openblas_get_num_threads', 'openblas_get_num_threads')
+print(next(getattr(blas, n)() for n in names if hasattr(blas, n)))
+"""
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc/self/maps")
+def test_numpy_runs_one_blas_thread_unless_the_user_says_otherwise():
+    """transplanter works in parallel with processes, each with one OpenBLAS thread (issue 46: the
+    threads' spinning cost a pair call 3 % of its CPU); a user's setting is numpy's."""
+    assert _run(BLAS_THREADS) == "1"
+    assert _run(BLAS_THREADS, OPENBLAS_NUM_THREADS="2") == "2"
+    assert _run("import numpy, transplanter, os; print(os.environ.get('OPENBLAS_NUM_THREADS'))") == "None"

@@ -23,6 +23,7 @@ import math
 
 import numpy as np
 
+from transplanter.core.extrema import prominent_peaks
 from transplanter.core.tolerances import REFINE_MM, REFINE_RAD
 from transplanter.geometry import contact
 from transplanter.proof.mesh_engine import CLEARANCE_CAP_MM, MESH_CHUNK, MeshSweep
@@ -89,10 +90,8 @@ def approaches(mesh: MeshSweep) -> np.ndarray:
     # a pass is a dip where the tips come closer than around it: a minimum standing out of its
     # surroundings by more than DIP_PROMINENCE_MM (the flank-gap plateau between passes has
     # minima of round-off depth); the grid is extended by a turn each way, so none wraps
-    from scipy.signal import find_peaks  # imported here: 0.25 s that only a proof with refinement needs
-
     n = APPROACH_STEPS
-    peaks, _ = find_peaks(-np.tile(np.minimum(near, CLEARANCE_CAP_MM), 3), prominence=DIP_PROMINENCE_MM)
+    peaks = prominent_peaks(-np.tile(np.minimum(near, CLEARANCE_CAP_MM), 3), DIP_PROMINENCE_MM)
     mine = (peaks >= n) & (peaks < 2 * n)
     peaks = peaks[mine] - n
     dips = np.unique(peaks)
