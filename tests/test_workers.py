@@ -337,3 +337,36 @@ def test_a_fork_waiting_on_its_inbox_ends_when_its_parent_is_killed():
         time.sleep(0.05)
     assert _ended(pid)
     assert "Traceback" not in proc.stderr
+
+
+KILLED_BUILDER = """
+import os, signal, sys, threading, time
+from transplanter.families.builder.workers import Forks
+pool = Forks(1).__enter__()
+pool.submit(time.sleep, 60)
+stop = {"SIGKILL": lambda: os.kill(os.getpid(), signal.SIGKILL), "SIGTERM": lambda: os.killpg(0, signal.SIGTERM)}
+threading.Timer(1.0, stop[sys.argv[1]]).start()
+print(pool._dir, pool._server, flush=True)
+pool.next()
+"""
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="reads /proc")
+@pytest.mark.parametrize("stop", ["SIGKILL", "SIGTERM"])
+def test_a_killed_builder_leaves_no_fork_folder(tmp_path, stop):
+    """A build killed — SIGKILL to it, or SIGTERM to its whole process group as ``timeout`` sends
+    it — never leaves its ``with`` block: its fork server, seeing it gone, stops the part still
+    running and removes the temporary folder the answers go through; nothing is left there."""
+    import subprocess
+    import sys
+
+    env = {**os.environ, "TMPDIR": str(tmp_path)}
+    command = [sys.executable, "-c", KILLED_BUILDER, stop]
+    proc = subprocess.run(command, capture_output=True, text=True, timeout=120, env=env, start_new_session=True)
+    folder, server = proc.stdout.split()
+    assert folder.startswith(str(tmp_path)), proc.stderr
+    deadline = time.monotonic() + 20.0
+    while not _ended(int(server)) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert _ended(int(server))
+    assert list(tmp_path.iterdir()) == []

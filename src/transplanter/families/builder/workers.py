@@ -121,7 +121,9 @@ class Forks:
     pool's does, in a file of a temporary folder that the task's process writes and this one reads
     and removes — no pipe carries it, so the builder handing out a large task (a machine's gear
     files) and the server passing on a large answer never wait on each other. No thread is
-    started. Leaving the ``with`` block stops the server and the processes still running. Where
+    started. Leaving the ``with`` block stops the server and the processes still running, and
+    removes the folder; if this process is killed instead, the server, seeing it gone, stops them
+    and removes the folder itself. Where
     no process can be forked, each task is done in this process when :meth:`next` is asked."""
 
     def __init__(self, jobs: int) -> None:
@@ -156,10 +158,21 @@ class Forks:
         if self._server == 0:  # the fork server: until this process says stop or goes
             code = 0
             try:
+                import signal
+
+                # a SIGTERM to the whole process group (``timeout``'s) is not its own end: it ends when
+                # this process has gone, after stopping what runs and removing the folder; its
+                # children take SIGTERM as any process does
+                signal.signal(signal.SIGTERM, signal.SIG_IGN)
                 self._tasks.close()
                 self._results.close()
                 _preload()
                 _serve(tasks, results, self._dir)
+            except (EOFError, BrokenPipeError):  # this process gone (killed): no one else reads or removes the folder
+                import shutil
+
+                shutil.rmtree(self._dir, ignore_errors=True)
+                code = 1
             except BaseException:
                 code = 1
             finally:
@@ -260,6 +273,7 @@ def _serve(tasks, results, folder: str) -> None:
                     receive, send = Pipe(duplex=False)
                     pid = os.fork()
                     if pid == 0:
+                        signal.signal(signal.SIGTERM, signal.SIG_DFL)
                         tasks.close()
                         results.close()
                         receive.close()
