@@ -52,13 +52,16 @@ STAGES = (
 
 
 PEER = "ncgears==0.3.1"
+#: the environment as the user's shell gave it, before this process imported transplanter (which sets
+#: ``OPENBLAS_NUM_THREADS`` for itself where unset): both commands are timed in it, as a user runs them
+USER_ENV = dict(os.environ)
 
 
 def timed(command: list[str], cwd: Path | None = None) -> tuple[float, float]:
     """(wall s, CPU s of the child and its children) of ``command``."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
-    subprocess.run(command, check=True, capture_output=True, cwd=cwd)
+    subprocess.run(command, check=True, capture_output=True, cwd=cwd, env=USER_ENV)
     wall = time.perf_counter() - start
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
