@@ -83,3 +83,39 @@ def test_a_name_that_moved_out_of_a_split_module_is_still_found_there(old, name)
     assert getattr(module, name) is not None
     with pytest.raises(AttributeError, match="no attribute 'no_such_name'"):
         module.no_such_name  # noqa: B018 - the lookup is the test
+
+
+#: in a fresh interpreter: every former module path whose last part is also a name its package
+#: gives (a function, a class), imported, then that name looked up again
+CLASHES = """
+import importlib, sys, types
+import transplanter
+found = []
+for old in sorted(transplanter.MOVED):
+    parent, _, name = f"transplanter.{old}".rpartition(".")
+    before = getattr(importlib.import_module(parent), name, None)
+    if before is not None and not isinstance(before, types.ModuleType):
+        found.append((parent, name, before))
+for parent, name, before in found:
+    importlib.import_module(f"{parent}.{name}")
+    after = getattr(sys.modules[parent], name)
+    assert after is before, (parent, name, after)
+print(len(found), *(f"{p}.{n}" for p, n, _ in found))
+"""
+
+
+def test_importing_a_former_module_path_keeps_the_name_it_shares():
+    """``transplanter.families.gear_pair`` is the one-call function and the former path of
+    ``families.pairs.gear_pair``: importing the path must not make ``from transplanter.families
+    import gear_pair`` the module (it did, in that process, for every test run after it)."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", CLASHES], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split()[:2] == ["1", "transplanter.families.gear_pair"]
+    from transplanter.families.gear_pair import pair_family  # the former path still imports
+
+    from transplanter.families.pairs.gear_pair import pair_family as here
+
+    assert pair_family is here
