@@ -123,8 +123,8 @@ class Forks:
     files) and the server passing on a large answer never wait on each other. No thread is
     started. Leaving the ``with`` block stops the server and the processes still running, and
     removes the folder; if this process is killed instead, the server, seeing it gone, stops them
-    and removes the folder itself. Where
-    no process can be forked, each task is done in this process when :meth:`next` is asked."""
+    and removes the folder itself. Where no process can be forked, each task is done in this
+    process when :meth:`next` is asked."""
 
     def __init__(self, jobs: int) -> None:
         import collections
@@ -168,7 +168,7 @@ class Forks:
                 self._results.close()
                 _preload()
                 _serve(tasks, results, self._dir)
-            except (EOFError, BrokenPipeError):  # this process gone (killed): no one else reads or removes the folder
+            except (EOFError, BrokenPipeError):  # this process gone (killed): no one else clears the folder
                 import shutil
 
                 shutil.rmtree(self._dir, ignore_errors=True)
