@@ -2,6 +2,7 @@ from pathlib import Path
 
 import pytest
 
+import transplanter.app.one_blas_thread  # noqa: F401 - the tests run as the command does: one BLAS thread
 from transplanter.families import load_family
 
 PARTS = Path(__file__).resolve().parents[1] / "parts"

@@ -5,6 +5,7 @@ part script written against the old paths still loads."""
 from __future__ import annotations
 
 import importlib
+import sys
 
 import pytest
 
@@ -119,3 +120,32 @@ def test_importing_a_former_module_path_keeps_the_name_it_shares():
     from transplanter.families.pairs.gear_pair import pair_family as here
 
     assert pair_family is here
+
+
+def test_a_forwarding_module_pickles_by_name_as_any_module():
+    """cloudpickle keys a part by what it holds and ships a search's cost function: a function of a
+    part script that refers to a forwarding module (``transplanter.families``, ``geometry.teeth``)
+    pickles to that module, not to a refusal (which had left such a part without a build key:
+    rebuilt every time)."""
+    import pickle
+
+    import cloudpickle
+
+    import transplanter.families
+    import transplanter.geometry.teeth  # noqa: F401 - a forwarding module, imported
+    from transplanter.core.forwarding import Forwarding
+    from transplanter.families.builder.manifest import part_key
+
+    forwarding = [m for m in list(sys.modules.values()) if isinstance(m, Forwarding)]
+    assert {"transplanter.families", "transplanter.geometry.teeth"} <= {m.__name__ for m in forwarding}
+    for module in forwarding:
+        assert pickle.loads(cloudpickle.dumps(module)) is module
+    code = {}
+    exec("import transplanter.geometry.teeth as teeth\ndef cost(x):\n    return teeth, x\n", code)  # noqa: S102 - a part script's function
+    assert pickle.loads(cloudpickle.dumps(code["cost"]))(1)[0] is sys.modules["transplanter.geometry.teeth"]
+
+    class Held:
+        def __init__(self):
+            self.cost = code["cost"]
+
+    assert part_key(Held()) is not None

@@ -53,3 +53,11 @@ def test_every_kind_of_part_passes_its_own_check_on_the_built_files(built, famil
             files = {**{n: (root / n).read_bytes() for n in manifest["parts"][used]["files"]}, **files}
         checked = part.check(files)
         assert checked is None or not checked.problems or checked.expected, (name, checked.problems)
+
+
+def test_every_shipped_part_has_a_build_key(families):
+    """A part the pickler refuses has no build key and is silently rebuilt by every incremental
+    build (``manifest.part_key``): every part of the shipped scripts has one."""
+    from transplanter.families.builder.manifest import part_key
+
+    assert [name for name, part in families.items() if part_key(part) is None] == []

@@ -342,31 +342,67 @@ def test_a_fork_waiting_on_its_inbox_ends_when_its_parent_is_killed():
 KILLED_BUILDER = """
 import os, signal, sys, threading, time
 from transplanter.families.builder.workers import Forks
-pool = Forks(1).__enter__()
+pool = Forks(2).__enter__()
 pool.submit(time.sleep, 60)
-stop = {"SIGKILL": lambda: os.kill(os.getpid(), signal.SIGKILL), "SIGTERM": lambda: os.killpg(0, signal.SIGTERM)}
-threading.Timer(1.0, stop[sys.argv[1]]).start()
+how = sys.argv[1]
+if how == "SIGKILL mid-send":  # a task larger than the pipe, its sending cut: the server reads half a message
+    pool.submit(len, bytes(64 << 20))
+stop = {"SIGTERM": lambda: os.killpg(0, signal.SIGTERM), "SIGHUP": lambda: os.killpg(0, signal.SIGHUP)}
+threading.Timer(0.3, stop.get(how, lambda: os.kill(os.getpid(), signal.SIGKILL))).start()
 print(pool._dir, pool._server, flush=True)
+pool.next()
 pool.next()
 """
 
 
 @pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="reads /proc")
-@pytest.mark.parametrize("stop", ["SIGKILL", "SIGTERM"])
+@pytest.mark.parametrize("stop", ["SIGKILL", "SIGKILL mid-send", "SIGTERM", "SIGHUP"])
 def test_a_killed_builder_leaves_no_fork_folder(tmp_path, stop):
-    """A build killed — SIGKILL to it, or SIGTERM to its whole process group as ``timeout`` sends
-    it — never leaves its ``with`` block: its fork server, seeing it gone, stops the part still
-    running and removes the temporary folder the answers go through; nothing is left there."""
+    """A build killed — SIGKILL to it (also while it sends a large task), SIGTERM or SIGHUP to its
+    whole process group as ``timeout`` and a closed terminal send them — never leaves its ``with``
+    block: its fork server, seeing it gone, stops the part still running and removes the
+    temporary folder the answers go through."""
     import subprocess
     import sys
 
     env = {**os.environ, "TMPDIR": str(tmp_path)}
     command = [sys.executable, "-c", KILLED_BUILDER, stop]
-    proc = subprocess.run(command, capture_output=True, text=True, timeout=120, env=env, start_new_session=True)
-    folder, server = proc.stdout.split()
-    assert folder.startswith(str(tmp_path)), proc.stderr
+    with subprocess.Popen(
+        command, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, env=env, start_new_session=True, text=True
+    ) as proc:
+        folder, server = proc.stdout.readline().split()
+        proc.stdout.close()
+        proc.wait(timeout=60)
+    assert folder.startswith(str(tmp_path))
     deadline = time.monotonic() + 20.0
     while not _ended(int(server)) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert _ended(int(server))
-    assert list(tmp_path.iterdir()) == []
+    assert list(tmp_path.glob("transplanter-forks-*")) == []
+
+
+DISPOSITION = """
+import signal, sys
+from transplanter.families.builder.workers import Forks
+def handler(number, frame):
+    pass
+def disposition():
+    found = signal.getsignal(signal.SIGTERM)
+    return getattr(found, "__name__", None) or found.name  # a function, or SIG_DFL / SIG_IGN
+if sys.argv[1] == "handler":
+    signal.signal(signal.SIGTERM, handler)
+with Forks(1) as pool:
+    pool.submit(disposition)
+    print(pool.next()[2])
+"""
+
+
+@pytest.mark.parametrize(("builder", "part"), [("default", "SIG_DFL"), ("handler", "handler")])
+def test_a_part_takes_sigterm_as_the_builder_does(builder, part):
+    """The fork server ignores SIGTERM (it outlives its group's); the parts it forks take it back as
+    the builder had it."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", DISPOSITION, builder], capture_output=True, text=True, timeout=120)
+    assert out.stdout.strip() == part, out.stderr[-2000:]

@@ -79,22 +79,6 @@ def _same_kernels() -> None:
 
 _same_kernels()
 
-
-def _one_blas_thread() -> None:
-    """One OpenBLAS thread per process, unless the user sets ``OPENBLAS_NUM_THREADS``.
-
-    transplanter's arrays are small (thousands of points), and where it works in parallel it
-    does so with processes: a build's parts, a search's workers, a pair's STEP and plots. Its
-    BLAS calls gain nothing from more threads. OpenBLAS (numpy's copy and scipy's) starts one
-    thread per core and lets them spin: that cost a ``transplanter pair`` call 0.18 s of CPU
-    on 2 cores, 3 %, for the same files (issue 46). Set before numpy is first imported, as
-    :func:`_same_kernels`; a process that imported numpy before transplanter keeps its threads."""
-    if "numpy" not in sys.modules:
-        os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
-
-
-_one_blas_thread()
-
 #: the former path of every moved module (without ``transplanter.``) -> where it lives now
 MOVED = {
     **{m: f"core.{m}" for m in ("errors", "tolerances", "precision", "extrema", "inputs")},

@@ -29,6 +29,7 @@ import sys
 from pathlib import Path
 
 from transplanter import __version__
+from transplanter.app import one_blas_thread  # noqa: F401 - before numpy loads: one BLAS thread
 from transplanter.app.analyse import run as _cmd_analyse
 from transplanter.app.build import run as _cmd_build
 from transplanter.app.check import run as _cmd_check

@@ -8,7 +8,9 @@ transplanter.families import gear_pair`` gave the module, in that process, and a
 elsewhere broke depending on the order. A forwarding module therefore keeps its names:
 an import of a submodule of the same name leaves the attribute alone (:class:`Forwarding`). The
 module stays in ``sys.modules`` under its path, so ``from transplanter.families.gear_pair import
-pair_family`` still works.
+pair_family`` still works; only ``import transplanter.families.gear_pair as m`` and the dotted
+``transplanter.families.gear_pair.pair_family`` now give the function's side, which one name
+cannot avoid: use ``transplanter.families.pairs.gear_pair`` for the module.
 
 Examples
 --------
@@ -34,12 +36,16 @@ __all__ = ["Forwarding", "forward"]
 
 class Forwarding(types.ModuleType):
     """A module that forwards names (:func:`forward`): a submodule imported under one of them does
-    not replace it as the module's attribute."""
+    not replace it as the module's attribute. Pickled (cloudpickle: a part's build key, a search's
+    cost function) as a module is, by its name."""
 
     def __setattr__(self, name: str, value: Any) -> None:
         if isinstance(value, types.ModuleType) and name in self.__dict__.get("_FORWARDED", ()):
             return
         super().__setattr__(name, value)
+
+    def __reduce__(self):
+        return importlib.import_module, (self.__name__,)
 
 
 def forward(module: str, moved: dict[str, str]) -> Callable[[str], Any]:

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
+import signal
 import threading
 from collections.abc import Callable
 from pathlib import Path
@@ -147,36 +148,19 @@ class Forks:
         self._dir = tempfile.mkdtemp(prefix="transplanter-forks-")
         tasks, self._tasks = Pipe(duplex=False)
         self._results, results = Pipe(duplex=False)
+        mask = signal.pthread_sigmask(signal.SIG_BLOCK, OUTLIVED)  # until the server ignores them
         try:
             self._server = os.fork()
         except OSError:  # no process to be had (limits)
+            self._server = None
+        if self._server == 0:  # the fork server: until this process says stop or goes
+            _server(tasks, results, (self._tasks, self._results), self._dir, mask)
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        if self._server is None:
             for end in (tasks, self._tasks, self._results, results):
                 end.close()
             os.rmdir(self._dir)
-            self._server = None
             return self
-        if self._server == 0:  # the fork server: until this process says stop or goes
-            code = 0
-            try:
-                import signal
-
-                # a SIGTERM to the whole process group (``timeout``'s) is not its own end: it ends when
-                # this process has gone, after stopping what runs and removing the folder; its
-                # children take SIGTERM as any process does
-                signal.signal(signal.SIGTERM, signal.SIG_IGN)
-                self._tasks.close()
-                self._results.close()
-                _preload()
-                _serve(tasks, results, self._dir)
-            except (EOFError, BrokenPipeError):  # this process gone (killed): no one else clears the folder
-                import shutil
-
-                shutil.rmtree(self._dir, ignore_errors=True)
-                code = 1
-            except BaseException:
-                code = 1
-            finally:
-                os._exit(code)
         tasks.close()
         results.close()
         return self
@@ -254,12 +238,41 @@ def _preload() -> None:
     gc.freeze()
 
 
-def _serve(tasks, results, folder: str) -> None:
+#: signals sent to the builder's whole process group (``timeout``'s SIGTERM, a closed terminal's
+#: SIGHUP) that the fork server outlives: it ends once it sees the builder gone (:func:`_server`)
+OUTLIVED = (signal.SIGTERM, signal.SIGHUP)
+
+
+def _server(tasks, results, theirs, folder: str, mask) -> None:
+    """The fork server's life (:class:`Forks`), ended by ``os._exit``: it ignores :data:`OUTLIVED`
+    (blocked from before the fork to here) and its children take them as the builder did; when the
+    builder is gone — killed, its ends of the pipes closed mid-message or not — it stops what runs
+    and removes ``folder``, which no one else will."""
+    import os
+    import shutil
+
+    builder, code = os.getppid(), 0
+    try:
+        before = {s: signal.signal(s, signal.SIG_IGN) for s in OUTLIVED}
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
+        for end in theirs:
+            end.close()
+        _preload()
+        _serve(tasks, results, folder, before)
+    except BaseException as exc:
+        code = 1
+        if isinstance(exc, (EOFError, OSError)) or os.getppid() != builder:
+            shutil.rmtree(folder, ignore_errors=True)
+    finally:
+        os._exit(code)
+
+
+def _serve(tasks, results, folder: str, restore: dict) -> None:
     """The fork server of :class:`Forks`: each task received forked into a process of its own,
     which pickles its answer into ``folder``; where it is, or the process's death, is passed on.
-    On ``None`` (or the builder gone) every process still running is stopped."""
+    On ``None`` (or the builder gone) every process still running is stopped. ``restore``: the
+    signal handlers its children take back (the builder's)."""
     import os
-    import signal
     from multiprocessing.connection import Pipe, wait
 
     running: dict = {}  # reading end -> (ticket, pid)
@@ -273,7 +286,8 @@ def _serve(tasks, results, folder: str) -> None:
                     receive, send = Pipe(duplex=False)
                     pid = os.fork()
                     if pid == 0:
-                        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+                        for number, handler in restore.items():
+                            signal.signal(number, signal.SIG_DFL if handler is None else handler)
                         tasks.close()
                         results.close()
                         receive.close()
