@@ -52,8 +52,8 @@ STAGES = (
 
 
 PEER = "ncgears==0.3.1"
-#: the environment as the user's shell gave it, before this process imported transplanter (which sets
-#: ``OPENBLAS_NUM_THREADS`` for itself where unset): both commands are timed in it, as a user runs them
+#: the environment as the user's shell gave it, before this process runs transplanter's command in
+#: itself (``app.cli`` sets ``OPENBLAS_NUM_THREADS`` where unset): both commands are timed in it
 USER_ENV = dict(os.environ)
 
 
