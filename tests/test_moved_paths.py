@@ -110,7 +110,6 @@ def test_importing_a_former_module_path_keeps_the_name_it_shares():
     ``families.pairs.gear_pair``: importing the path must not make ``from transplanter.families
     import gear_pair`` the module (it did, in that process, for every test run after it)."""
     import subprocess
-    import sys
 
     out = subprocess.run([sys.executable, "-c", CLASHES], capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-2000:]

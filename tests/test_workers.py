@@ -321,6 +321,14 @@ def _ended(pid: int) -> bool:
         return True
 
 
+def _ends(pid: int, within: float = 20.0) -> bool:
+    """Whether process ``pid`` has ended or ends within ``within`` s."""
+    deadline = time.monotonic() + within
+    while not _ended(pid) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return _ended(pid)
+
+
 @pytest.mark.skipif(not os.path.isdir("/proc/self"), reason="reads /proc")
 def test_a_fork_waiting_on_its_inbox_ends_when_its_parent_is_killed():
     """A process stopped while its work beside it waits on its inbox (the build stopped: the fork
@@ -332,10 +340,7 @@ def test_a_fork_waiting_on_its_inbox_ends_when_its_parent_is_killed():
     proc = subprocess.run([sys.executable, "-c", ORPHAN], capture_output=True, text=True, timeout=120)
     pid = int(proc.stdout.split()[0])
     assert pid > 0, proc.stderr
-    deadline = time.monotonic() + 20.0
-    while not _ended(pid) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert _ended(pid)
+    assert _ends(pid)
     assert "Traceback" not in proc.stderr
 
 
@@ -374,10 +379,7 @@ def test_a_killed_builder_leaves_no_fork_folder(tmp_path, stop):
         proc.stdout.close()
         proc.wait(timeout=60)
     assert folder.startswith(str(tmp_path))
-    deadline = time.monotonic() + 20.0
-    while not _ended(int(server)) and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert _ended(int(server))
+    assert _ends(int(server))
     assert list(tmp_path.glob("transplanter-forks-*")) == []
 
 
