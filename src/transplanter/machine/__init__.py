@@ -27,5 +27,7 @@ __getattr__ = forward(
     __name__,
     {
         "LEVELS_MM": "transplanter.machine.bodies",
+        "clearances_under_play": "transplanter.machine.play",
+        "turned": "transplanter.machine.play",
     },
 )

@@ -19,7 +19,6 @@ seedling box or in the soil: the tool meets its work there) have their figure re
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
@@ -33,6 +32,7 @@ from transplanter.core.errors import SpecError
 from transplanter.design.planetary import DifferentialTrain
 from transplanter.proof.clearance import (
     CLEARANCE_TOL_MM,
+    Approach,
     Posed,
     Samples,
     closest_approach,
@@ -60,8 +60,6 @@ __all__ = [
     "pairs_to_judge",
     "posed",
     "clearances",
-    "clearances_under_play",
-    "turned",
     "motion_rows",
     "tool_phases",
     "work_depth",
@@ -139,8 +137,18 @@ class Judged:
     bound: float
     samples: Samples = field(repr=False)  # on the motion grid, measured when asked (``samples.values``)
     #: False: ``distance`` is only a lower bound (a pair settled without measuring, see
-    #: :func:`clearances_under_play`)
+    #: :func:`clearances_under_play`, or found to a share of its margin, :func:`clearances`)
     exact: bool = True
+    #: when not ``exact`` and measured: the least distance measured (mm, at ``at_deg``): the true
+    #: minimum lies between ``distance`` and this
+    nearest: float | None = None
+
+    @classmethod
+    def of(cls, pair: Pair, found: Approach) -> Judged:
+        """``found`` as the pair's figure: its distance if ``exact``, else its bound."""
+        if found.exact:
+            return cls(pair, found.distance, math.degrees(found.theta), found.bound, found.samples)
+        return cls(pair, found.bound, math.degrees(found.theta), found.bound, found.samples, False, found.distance)
 
 
 @dataclass(frozen=True)
@@ -227,6 +235,7 @@ def judge_pairs(
     min_axial_gap: float,
     required: Callable[[Pair], float],
     tol: float = CLEARANCE_TOL_MM,
+    stated: Callable[[Pair], str | None] | None = None,
 ) -> list[Verdict]:
     """Each pair judged in 3D over the cycle sampled by ``theta`` (rad), ``bodies`` as
     :func:`posed` gives them: a joint is recorded (its axial gap the figure); a working pair gets
@@ -234,9 +243,15 @@ def judge_pairs(
     more apart passes on its axial gap; every other must keep ``required(pair)`` mm in-plane
     (:func:`clearances`: bounded between the samples). One that does not, with its planes apart
     by less than the minimum (or touching), runs face to face: its problem names the axial gap
-    and the largest area the two outlines share, where, and over how many positions."""
+    and the largest area the two outlines share, where, and over how many positions.
+
+    An in-plane pair is found to a share of its margin over ``required(pair)`` (:func:`clearances`)
+    but where the record states it: the pair nearest its minimum, and the nearest of each group
+    ``stated(pair)`` names (an objective's pairs, say), are found exactly (:func:`_nearest_exactly`)."""
     measured = [p for p in pairs if not p.joint and (p.working or p.axial_gap < min_axial_gap)]
-    found = {(j.pair.a, j.pair.b): j for j in clearances(bodies, measured, theta, tol)}
+    keep = {(p.a, p.b): None if p.working else required(p) for p in measured}
+    found = {(j.pair.a, j.pair.b): j for j in clearances(bodies, measured, theta, tol, keep)}
+    found.update(_nearest_exactly(bodies, found, keep, stated or (lambda p: None), theta, tol))
     out = []
     for p in pairs:
         if p.joint:
@@ -260,6 +275,22 @@ def judge_pairs(
             )
         out.append(Verdict(p, IN_PLANE, j.distance, need, not problem, j, problem))
     return out
+
+
+def _nearest_exactly(bodies: dict[str, Posed], found: dict, keep: dict, stated, theta, tol: float) -> dict:
+    """Each group's pairs that may be its nearest, measured again exactly: a group (every in-plane
+    pair, and each ``stated`` names) is stated by its least margin over the minimum, so each of its
+    pairs not ``exact`` whose lower bound's margin is no more than the least measured one's."""
+    groups: dict[str, list] = {}
+    for key, j in found.items():
+        if keep[key] is not None:
+            for name in {"", stated(j.pair)} - {None}:
+                groups.setdefault(name, []).append((key, j, keep[key]))
+    again = set()
+    for members in groups.values():
+        least = min((j.distance if j.nearest is None else j.nearest) - need for _, j, need in members)
+        again |= {key for key, j, need in members if not j.exact and j.distance - need <= least}
+    return {(j.pair.a, j.pair.b): j for j in clearances(bodies, [found[k].pair for k in sorted(again)], theta, tol)}
 
 
 def _face_to_face(a: Posed, b: Posed, p: Pair, j: Judged, theta, min_axial_gap: float, need: float) -> str:
@@ -317,86 +348,20 @@ def _radii(section: shapely.Polygon, link: Link) -> tuple[float, float]:
 
 
 def clearances(
-    bodies: dict[str, Posed], pairs: list[Pair], theta: np.ndarray, tol: float = CLEARANCE_TOL_MM
+    bodies: dict[str, Posed], pairs: list[Pair], theta: np.ndarray, tol: float = CLEARANCE_TOL_MM, need=None
 ) -> list[Judged]:
     """Each pair's closest approach over the cycle sampled by ``theta`` (rad; refined between
     the samples under the speed bounds, :func:`clearance.closest_approach`); ``bodies`` as
-    :func:`posed` gives them."""
+    :func:`posed` gives them. A pair with a clearance to keep (``need[(a, b)]``, mm) is found to a
+    share of its margin over it: where that is wider than the exact tolerance, its figure is the
+    proved lower bound, not ``exact``, and the least distance measured its ``nearest``."""
+
     def judge(p: Pair) -> Judged:
-        found = closest_approach(bodies[p.a], bodies[p.b], theta, tol)
-        return Judged(p, found.distance, math.degrees(found.theta), found.bound, found.samples)
+        return Judged.of(p, closest_approach(bodies[p.a], bodies[p.b], theta, tol, (need or {}).get((p.a, p.b))))
 
     # two at a time: GEOS and numpy release the GIL for most of a pair's measuring
     with ThreadPoolExecutor(max_workers=2) as pool:
         return list(pool.map(judge, pairs))
-
-
-def turned(link: Link, turn: float) -> Link:
-    """``link`` turned a further ``turn`` rad about its frame origin (a planet at an end of its
-    play): its points move no faster than before."""
-
-    def pose(theta):
-        x, y, a = link.pose(theta)
-        return x, y, np.asarray(a, dtype=float) + turn
-
-    return Link(link.name, pose, link.speed, link.turn_rate)
-
-
-def clearances_under_play(
-    bodies: list[Body],
-    ready: dict[str, Posed],
-    links: dict[str, Link],
-    pairs: list[Pair],
-    theta: np.ndarray,
-    turn: float,
-    playing: set[str],
-    nominal: dict[frozenset, Judged],
-    settle: float,
-    tol: float = CLEARANCE_TOL_MM,
-    wrap: Callable[[Posed], Posed] | None = None,
-) -> list[Judged]:
-    """Each pair's closest approach with every link in ``playing`` (the planets) at either end of
-    its play, ± ``turn`` rad, independently: the smallest over those poses, for the pairs that
-    have a playing link (the others are not returned); ``ready`` the bodies as :func:`posed`
-    gives them on ``links`` (any frame: a turn about its own origin is the same in all), each
-    turned body through ``wrap`` if given (as the nominal figure was measured).
-
-    A turn of ``turn`` moves no point of a body further than ``turn`` times its reach, so a pair
-    whose ``nominal`` closest approach less those moves stays at or above ``settle`` (the
-    clearance judged against) is settled without measuring: its figure is that lower bound,
-    marked not ``exact``."""
-    by_name = {b.name: b for b in bodies}
-    todo = [p for p in pairs if {by_name[p.a].link, by_name[p.b].link} & playing]
-
-    def judge(p: Pair) -> Judged:
-        la, lb = by_name[p.a].link, by_name[p.b].link
-        known = nominal[frozenset((p.a, p.b))]
-        moves = sum(turn * reach(by_name[n].section) for n, ln in ((p.a, la), (p.b, lb)) if ln in playing)
-        if known.distance - moves >= settle:
-            return Judged(
-                p,
-                max(0.0, known.distance - moves),
-                known.at_deg,
-                max(0.0, known.bound - moves),
-                known.samples,
-                exact=False,
-            )
-        signs_a = (-1.0, 1.0) if la in playing else (0.0,)
-        signs_b = (-1.0, 1.0) if lb in playing and lb != la else (0.0,)
-        worst = None
-        for sa in signs_a:
-            for sb in signs_b:
-                # (a turn about the link's origin leaves its speed bound and outlines as they were)
-                a = dataclasses.replace(ready[p.a], pose=turned(links[la], sa * turn).pose)
-                b = dataclasses.replace(ready[p.b], pose=turned(links[lb], (sa if lb == la else sb) * turn).pose)
-                found = closest_approach(wrap(a), wrap(b), theta, tol) if wrap else closest_approach(a, b, theta, tol)
-                if worst is None or found.distance < worst.distance:
-                    worst = Judged(p, found.distance, math.degrees(found.theta), found.bound, found.samples)
-        assert worst is not None
-        return worst
-
-    with ThreadPoolExecutor(max_workers=2) as pool:
-        return list(pool.map(judge, todo))
 
 
 def work_depth(tool: Body, work: Body, link: Link, theta: np.ndarray, tip, back) -> tuple[float, float, float]:

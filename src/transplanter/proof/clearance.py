@@ -63,6 +63,9 @@ __all__ = [
 CLEARANCE_TOL_MM = WIRE_EDM_TOLERANCE
 #: ... or this fraction of the distance, whichever is larger (a 60 mm gap is stated to 60 µm)
 CLEARANCE_REL_TOL = 1e-3
+#: ... or, for a pair that must keep a clearance, this fraction of its margin over it (issue 46): a
+#: planet 22 mm from a screw that must keep 3 mm is found to 0.19 mm, and stated as its lower bound
+MARGIN_REL = 1e-2
 #: bisection rounds at most (a 0.5° grid is bisected to 3e-8 rad in 20)
 MAX_ROUNDS = 40
 #: the search starts from about this many of the given samples, evenly spread, and bisects from
@@ -189,7 +192,7 @@ def least_of(samples: list[Samples]) -> tuple[np.ndarray, np.ndarray]:
 class Approach:
     """The closest approach of two bodies over the cycle: ``distance`` (mm, 0 when they
     overlap) at driver angle ``theta`` (rad); ``bound`` the lowest the distance can be anywhere
-    on the cycle (within ``tol`` of ``distance``); ``evaluations`` poses measured."""
+    on the cycle (within the search's tolerance of ``distance``); ``evaluations`` poses measured."""
 
     distance: float
     theta: float
@@ -197,6 +200,9 @@ class Approach:
     evaluations: int
     #: the distance at each of the given samples on the coarsest outlines (display), measured when asked for
     samples: Samples
+    #: whether ``distance - bound`` is within the exact tolerance (``tol`` or ``CLEARANCE_REL_TOL`` of
+    #: the distance); False: the search stopped at a share of the margin over ``need``
+    exact: bool = True
 
     @property
     def sampled(self) -> np.ndarray:
@@ -294,11 +300,14 @@ def split_intervals(t: np.ndarray, h: np.ndarray, open_: np.ndarray, room: np.nd
     return cut, t[cut] + h[cut] * frac
 
 
-def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -> Approach:
+def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, need: float | None = None) -> Approach:
     """The smallest distance between ``a`` and ``b`` over the cycle sampled by ``theta`` (rad,
     increasing, one period of 2π, end point excluded), found by branch and bound under the
     Lipschitz bound (module docstring) to within ``tol`` mm or ``CLEARANCE_REL_TOL`` of it,
-    whichever is larger.
+    whichever is larger — or, given the clearance ``need`` (mm) the pair must keep, to within
+    ``MARGIN_REL`` of its margin over it where that is larger still: the search only has to
+    show how far above ``need`` the pair stays, and ``bound`` is then the figure to state
+    (``exact`` False: ``distance - bound`` is wider than the exact tolerance).
 
     Every pose is measured on some level of the outlines (``Posed.levels``): the truth lies
     within that level's slack of the figure, and the smallest upper bound so far is the answer's
@@ -340,7 +349,7 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
         hi = v + slack[level]
         k = int(np.argmin(hi))
         best = float(hi[k])
-        within = max(tol, CLEARANCE_REL_TOL * best)
+        within = _within(best, tol, need)
         h = np.diff(np.append(t, t[0] + 2 * math.pi))
         low = np.maximum(0.5 * (lo + np.roll(lo, -1) - lip * h), floor)
         open_ = np.flatnonzero(low < best - within)
@@ -384,4 +393,12 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM) -
     after = np.where(j == 0, t[0] + 2 * math.pi, t[j])
     below = np.maximum(np.maximum(lo[i] - lip * (theta - t[i]), lo[j] - lip * (after - theta)), floor)
     samples = Samples(ladder[0][0], ladder[0][1], theta, below - slack[0], known)
-    return Approach(best, at, max(0.0, min(low, best - within)) if best > 0 else 0.0, evaluations, samples)
+    bound = max(0.0, low) if best > 0 else 0.0  # every interval's, at least best - within
+    return Approach(best, at, bound, evaluations, samples, best - bound <= _within(best, tol, None))
+
+
+def _within(best: float, tol: float, need: float | None) -> float:
+    """How near the true minimum a search that has found ``best`` (mm) must come: ``tol``,
+    ``CLEARANCE_REL_TOL`` of ``best``, or ``MARGIN_REL`` of its margin over ``need``."""
+    within = max(tol, CLEARANCE_REL_TOL * best)
+    return within if need is None else max(within, MARGIN_REL * (best - need))

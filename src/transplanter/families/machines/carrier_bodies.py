@@ -158,8 +158,9 @@ def _round(section) -> bool:
     return bool(rings)
 
 
-def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float, required, joints: dict):
-    """:func:`~transplanter.machine.bodies.judge_pairs` for every pair, except the pairs it would
+def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float, required, joints: dict, stated=None):
+    """:func:`~transplanter.machine.bodies.judge_pairs` for every pair (``stated`` its groups stated
+    by their nearest), except the pairs it would
     bisect without end and that need none, whose in-plane distance is one figure all round:
 
     * a round body (a shaft, a ring, a spacer, a hub disc) whose centre stays at one point of the
@@ -231,5 +232,5 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
         exact[(p.a, p.b)] = Verdict(
             p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, d, Samples.steady(theta, d)), problem
         )
-    found = {(v.pair.a, v.pair.b): v for v in judge_pairs(ready, rest, theta, gap, required)}
+    found = {(v.pair.a, v.pair.b): v for v in judge_pairs(ready, rest, theta, gap, required, stated=stated)}
     return [exact.get((p.a, p.b)) or found[(p.a, p.b)] for p in pairs]

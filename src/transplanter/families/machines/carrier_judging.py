@@ -104,15 +104,18 @@ def judge(study, files: dict[str, bytes], machine: DoubleCarrierMachine, shown: 
     grid = 2 * math.pi * np.arange(360) / 360
     pairs = pairs_to_judge(bodies, links, joints, working, grid, keep)
 
+    def above_soil(p: Pair) -> str | None:  # requirement 7's pairs, stated by their nearest
+        return "gearbox above the soil" if "soil" in (p.a, p.b) and ({p.a, p.b} & gearbox) else None
+
     def required(p: Pair) -> float:
-        if "soil" in (p.a, p.b) and ({p.a, p.b} & gearbox):
+        if above_soil(p):
             return study.gearbox_above_soil
         if frozenset((p.a, p.b)) in hw.concentric:
             return study.structure.hardware_clearance
         return study.clearance
 
     gap = study.layers.min_axial_gap
-    verdicts = carrier_bodies.judge(bodies, links, ready, pairs, grid, gap, required, joints)
+    verdicts = carrier_bodies.judge(bodies, links, ready, pairs, grid, gap, required, joints, above_soil)
     judged = [v.judged for v in verdicts if v.kind == IN_PLANE]
     problems = [v.problem for v in verdicts if v.problem]
     # (the layers hold its axial gap to the minimum when stated: CarrierLayers)

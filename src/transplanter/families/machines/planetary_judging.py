@@ -33,7 +33,6 @@ from transplanter.machine.bodies import (
     Pair,
     PlanetaryMachine,
     clearances,
-    clearances_under_play,
     judge_pairs,
     motion_rows,
     pairs_to_judge,
@@ -41,6 +40,7 @@ from transplanter.machine.bodies import (
     tool_phases,
 )
 from transplanter.machine.hardware import TURN
+from transplanter.machine.play import clearances_under_play
 from transplanter.proof.clearance import Posed, posed_sections, reach, relative
 from transplanter.shop.export import csv_bytes
 
@@ -233,7 +233,7 @@ def _judged_in_frames(bodies, links, pairs, grid, gap, required, symmetric, plan
         if back:
             names = {n for p in some for n in (p.a, p.b)}
             ready = {n: _there_and_back(ready[n], end) for n in names}
-        for v in judge_pairs(ready, some, fine if back else grid, gap, required):
+        for v in judge_pairs(ready, some, fine if back else grid, gap, required, stated=stated_as):
             if back and v.judged is not None:  # t back to the driver's angle, the samples on the grid
                 v = dataclasses.replace(v, judged=frames.unwound(v.judged, grid))
             found[(v.pair.a, v.pair.b)] = v
@@ -328,8 +328,8 @@ def judge(
         under = [j for j in played.values() if j.distance < required(j.pair)]
         record_play = {
             "turn_deg": rounded(math.degrees(turn), 6),
-            "measured": sum(j.exact for j in played.values()),
-            "settled_by_the_bound": sum(not j.exact for j in played.values()),
+            "measured": sum(j.exact or j.nearest is not None for j in played.values()),
+            "settled_by_the_bound": sum(not j.exact and j.nearest is None for j in played.values()),
             "smallest_mm": rounded(worst.distance, 6),
             "bodies": [worst.pair.a, worst.pair.b],
             "at_driver_deg": round(worst.at_deg, 4),
@@ -390,23 +390,8 @@ def objectives(study, machine: PlanetaryMachine, judged: list[Judged], module: f
     """Objectives i and ii on the bodies (and with the planets anywhere in their play), beside
     the needle-line figures."""
     line = {o.number: o for o in seed004_objectives(machine.made, study.site, module)}
-
-    def arm_of(name: str) -> str | None:
-        found = re.fullmatch(r"(arm|needle)_(\d+)", name)
-        return found.group(2) if found else None
-
-    def box_part(name: str) -> bool:
-        return name == "box" or name.startswith("box_")
-
-    between_arms = [j for j in judged if arm_of(j.pair.a) and arm_of(j.pair.b) and arm_of(j.pair.a) != arm_of(j.pair.b)]
-    # the arm clears every part of the box; the needle enters it through the door (door_margins)
-    at_box = [
-        j
-        for j in judged
-        if box_part(j.pair.a) != box_part(j.pair.b)
-        and not j.pair.working
-        and not any(re.fullmatch(r"needle_\d+", x) for x in (j.pair.a, j.pair.b))
-    ]
+    between_arms = [j for j in judged if stated_as(j.pair) == "i"]
+    at_box = [j for j in judged if stated_as(j.pair) == "ii"]
     i = min(between_arms, key=lambda j: j.distance)
     ii = min(at_box, key=lambda j: j.distance)
     rows = {
@@ -441,6 +426,36 @@ def objectives(study, machine: PlanetaryMachine, judged: list[Judged], module: f
     return {**rows, "all_met": not missed, **({"missed": missed} if missed else {})}
 
 
+def _arm_of(name: str) -> str | None:
+    found = re.fullmatch(r"(arm|needle)_(\d+)", name)
+    return found.group(2) if found else None
+
+
+def _box_part(name: str) -> bool:
+    return name == "box" or name.startswith("box_")
+
+
+def _needle(name: str) -> bool:
+    return re.fullmatch(r"needle_\d+", name) is not None
+
+
+#: the parts of the seedling box a needle passes (:func:`door_margins`)
+DOOR = ("box_door_back", "box_door_front", "box_floor", "box_wall_back", "box_wall_front")
+
+
+def stated_as(p: Pair) -> str | None:
+    """The figure the record states a pair's group by, its nearest (``judge_pairs``' ``stated``):
+    objective ``i`` (two arms' bodies), ``ii`` (an arm's body, not its needle, and the box: the
+    needle enters it through the door), or a door part and a needle (:func:`door_margins`)."""
+    a, b = _arm_of(p.a), _arm_of(p.b)
+    if a and b and a != b:
+        return "i"
+    if _box_part(p.a) != _box_part(p.b) and not p.working and not (_needle(p.a) or _needle(p.b)):
+        return "ii"
+    door = [part for part in DOOR if part in (p.a, p.b)]
+    return f"door {door[0]}" if door and (_needle(p.a) or _needle(p.b)) else None
+
+
 def _played(played: dict, among: list[Judged]) -> dict:
     """The smallest of ``among`` with the planets anywhere in their play (nothing without)."""
     found = [played[k] for k in (frozenset((j.pair.a, j.pair.b)) for j in among) if k in played]
@@ -469,13 +484,8 @@ def door_margins(verdicts) -> dict:
     either side of it), clear of the floor (in-plane) and of the side walls (axial gap), mm — the
     smallest over the needles."""
     out = {}
-    for part in ("box_door_back", "box_door_front", "box_floor", "box_wall_back", "box_wall_front"):
-        found = [
-            v
-            for v in verdicts
-            if part in (v.pair.a, v.pair.b)
-            and any(x.startswith("needle_") and x[7:].isdigit() for x in (v.pair.a, v.pair.b))
-        ]
+    for part in DOOR:
+        found = [v for v in verdicts if stated_as(v.pair) == f"door {part}"]
         if found:
             low = min(found, key=lambda v: v.figure)
             out[part] = {"kind": low.kind, "mm": rounded(low.figure, 6), "minimum_mm": low.minimum, "pass": low.passed}

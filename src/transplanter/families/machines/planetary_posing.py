@@ -21,8 +21,9 @@ from transplanter.design.agronomy import transplanting_metrics
 from transplanter.design.objectives import gearbox_radius
 from transplanter.families.machines.record import BOUGHT, OBSTACLE, OUTLINE_TOL_MM, read_bodies
 from transplanter.families.pairs.pair_assembly import read_meshing_csv
-from transplanter.machine.bodies import Body, PlanetaryMachine, turned
+from transplanter.machine.bodies import Body, PlanetaryMachine
 from transplanter.machine.hardware import read_turned
+from transplanter.machine.play import turned
 from transplanter.proof.clearance import posed_sections, reach
 from transplanter.proof.train_rebuild import meshed_train
 

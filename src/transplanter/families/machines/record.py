@@ -99,7 +99,10 @@ def clearance_row(v: Verdict, played: Judged | None = None, depth: dict | None =
     """A pair judged in 3D as the machine record states it: its ``kind`` (axial gap, in-plane,
     joint, working), the ``figure_mm`` it is judged by, the ``minimum_mm`` it must keep (None: not
     judged), ``pass``, its ``axial_gap_mm`` (negative: the planes overlap); with an in-plane
-    approach, where it lies and its bound; a joint's or a working pair's reason."""
+    approach, where it lies and its bound (a pair found only to a share of its margin over its
+    minimum states that bound as ``min_mm``, ``exact`` False, and the least distance measured, at
+    ``at_driver_deg``, as ``nearest_measured_mm``: the true minimum lies between the two); a
+    joint's or a working pair's reason."""
     j = v.judged
     row = {
         "bodies": [v.pair.a, v.pair.b],
@@ -113,6 +116,8 @@ def clearance_row(v: Verdict, played: Judged | None = None, depth: dict | None =
         row["joint"] = v.pair.joint
     if j is not None:
         row.update(min_mm=rounded(j.distance, 6), at_driver_deg=round(j.at_deg, 4), bound_mm=rounded(j.bound, 6))
+        if not j.exact and j.nearest is not None:  # far from its minimum: found to a share of the margin
+            row.update(exact=False, nearest_measured_mm=rounded(j.nearest, 6))
     if v.kind == WORKING:
         row["working"] = v.pair.working
         if depth is not None:  # only the tool's free end enters its work
