@@ -113,16 +113,15 @@ class Balloon:
 
 def _seen(outlines: list[Outline]) -> dict[str, shapely.Geometry]:
     """Each body's section less what bodies nearer the reader (higher in z) cover."""
-    sections = {o.name: o.section for o in outlines}
-    covers: dict[float, shapely.Geometry] = {}  # what covers a body depends on its height alone
-    out = {}
-    for o in outlines:
-        level = sum(o.z)
-        if level not in covers:
-            front = [sections[p.name] for p in outlines if p is not o and sum(p.z) > level]
-            covers[level] = shapely.union_all(front) if front else shapely.Polygon()
-        out[o.name] = sections[o.name].difference(covers[level])
-    return out
+    # what covers a body depends on its height alone: the bodies above it, gathered from the top
+    # down, each level's cover the one above's and that level's bodies
+    levels = sorted({sum(o.z) for o in outlines}, reverse=True)
+    covers: dict[float, shapely.Geometry] = {}
+    cover = shapely.Polygon()
+    for level in levels:
+        covers[level] = cover
+        cover = shapely.union_all([cover, *(o.section for o in outlines if sum(o.z) == level)])
+    return {o.name: o.section.difference(covers[sum(o.z)]) for o in outlines}
 
 
 def _dot(region, fallback: shapely.Polygon) -> tuple[float, float]:
