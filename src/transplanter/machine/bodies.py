@@ -348,7 +348,11 @@ def _radii(section: shapely.Polygon, link: Link) -> tuple[float, float]:
 
 
 def clearances(
-    bodies: dict[str, Posed], pairs: list[Pair], theta: np.ndarray, tol: float = CLEARANCE_TOL_MM, need=None
+    bodies: dict[str, Posed],
+    pairs: list[Pair],
+    theta: np.ndarray,
+    tol: float = CLEARANCE_TOL_MM,
+    need: dict[tuple[str, str], float | None] | None = None,
 ) -> list[Judged]:
     """Each pair's closest approach over the cycle sampled by ``theta`` (rad; refined between
     the samples under the speed bounds, :func:`clearance.closest_approach`); ``bodies`` as
