@@ -1,7 +1,8 @@
 """Whole machines: bodies posed over the cycle from their made parts, judged pair by pair.
 
 A machine is bodies in planes, posed over its cycle, with the clearance between every two that
-could meet (:mod:`~transplanter.machine.bodies`); seed 004's planting arms as plates
+could meet (:mod:`~transplanter.machine.bodies`), and with the planets anywhere in their play
+(:mod:`~transplanter.machine.play`); seed 004's planting arms as plates
 (:mod:`~transplanter.machine.arm_parts`); seed 002's double carrier as moving links
 (:mod:`~transplanter.machine.carriers`) and its parts as a designer draws them
 (:mod:`~transplanter.machine.carrier_parts`); the cycle to watch (:mod:`~transplanter.machine.animation`);

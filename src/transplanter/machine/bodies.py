@@ -137,9 +137,11 @@ class Judged:
     bound: float
     samples: Samples = field(repr=False)  # on the motion grid, measured when asked (``samples.values``)
     #: False: ``distance`` is only a lower bound (a pair settled without measuring, see
-    #: :func:`clearances_under_play`, or found to a share of its margin, :func:`clearances`)
+    #: :func:`~transplanter.machine.play.clearances_under_play`, or found to a share of its margin,
+    #: :func:`clearances`)
     exact: bool = True
-    #: when not ``exact`` and measured: the least distance measured (mm, at ``at_deg``): the true
+    #: when not ``exact`` and measured: the nearest the search found (mm, at ``at_deg``; an upper
+    #: bound: a pose's distance on simplified outlines plus their slack): the true
     #: minimum lies between ``distance`` and this
     nearest: float | None = None
 
@@ -358,7 +360,7 @@ def clearances(
     the samples under the speed bounds, :func:`clearance.closest_approach`); ``bodies`` as
     :func:`posed` gives them. A pair with a clearance to keep (``need[(a, b)]``, mm) is found to a
     share of its margin over it: where that is wider than the exact tolerance, its figure is the
-    proved lower bound, not ``exact``, and the least distance measured its ``nearest``."""
+    proved lower bound, not ``exact``, and the nearest the search found its ``nearest``."""
 
     def judge(p: Pair) -> Judged:
         return Judged.of(p, closest_approach(bodies[p.a], bodies[p.b], theta, tol, (need or {}).get((p.a, p.b))))

@@ -7,7 +7,8 @@ against is settled by that bound alone (its figure a lower bound, not ``exact``)
 measured with their links turned (:func:`turned`), by the same bounded search as the nominal
 figure (:func:`transplanter.proof.clearance.closest_approach`).
 
-Moved here from :mod:`transplanter.machine.bodies` (issue 46), whose names still reach these.
+Moved here from :mod:`transplanter.machine.bodies` (issue 46); ``transplanter.machine`` still
+gives these names.
 """
 
 from __future__ import annotations
@@ -50,9 +51,10 @@ def clearances_under_play(
 ) -> list[Judged]:
     """Each pair's closest approach with every link in ``playing`` (the planets) at either end of
     its play, ± ``turn`` rad, independently: the smallest over those poses, for the pairs that
-    have a playing link (the others are not returned); ``ready`` the bodies as :func:`posed`
-    gives them on ``links`` (any frame: a turn about its own origin is the same in all), each
-    turned body through ``wrap`` if given (as the nominal figure was measured).
+    have a playing link (the others are not returned); ``ready`` the bodies as
+    :func:`~transplanter.machine.bodies.posed` gives them on ``links`` (any frame: a turn about its
+    own origin is the same in all), each turned body through ``wrap`` if given (as the nominal
+    figure was measured).
 
     A turn of ``turn`` moves no point of a body further than ``turn`` times its reach, so a pair
     whose ``nominal`` closest approach less those moves stays at or above ``settle`` (the

@@ -100,8 +100,9 @@ def clearance_row(v: Verdict, played: Judged | None = None, depth: dict | None =
     joint, working), the ``figure_mm`` it is judged by, the ``minimum_mm`` it must keep (None: not
     judged), ``pass``, its ``axial_gap_mm`` (negative: the planes overlap); with an in-plane
     approach, where it lies and its bound (a pair found only to a share of its margin over its
-    minimum states that bound as ``min_mm``, ``exact`` False, and the least distance measured, at
-    ``at_driver_deg``, as ``nearest_measured_mm``: the true minimum lies between the two); a
+    minimum states that bound as ``min_mm``, ``exact`` False, and the nearest the search found, at
+    ``at_driver_deg`` (an upper bound), as ``nearest_measured_mm``: the true minimum lies between
+    the two); a
     joint's or a working pair's reason."""
     j = v.judged
     row = {
