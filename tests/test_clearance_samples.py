@@ -153,3 +153,40 @@ def test_a_group_the_record_states_by_its_nearest_gets_it_exactly():
     assert grouped["block_1"].distance == closest_approach(bodies["block_1"], bodies["pin_1"], THETA).distance
     assert not grouped["block_2"].exact and not grouped["block_4"].exact
     assert grouped["block_2"].distance < grouped["block_2"].nearest
+    # without the two near pairs the 30 mm crank is the nearest overall, by margin: exact unasked
+    far_pairs = [pairs[k] for k in (1, 2, 4)]
+    alone = {v.pair.a: v.judged for v in judge_pairs(bodies, far_pairs, THETA, 0.5, lambda p: 0.2)}
+    assert alone["block_1"].exact and not alone["block_2"].exact
+    # ... and by distance alone (a report's smallest clearance) where another pair is nearer its
+    # own clearance: the 20 mm crank 0.4 mm over its, the 30 mm crank 6.3 mm over 0.2 mm
+    needs = {"block_1": 0.2, "block_2": _truths()[2] - 0.4, "block_4": 0.2}
+    mixed = {v.pair.a: v.judged for v in judge_pairs(bodies, far_pairs, THETA, 0.5, lambda p: needs[p.a])}
+    assert mixed["block_1"].exact and mixed["block_2"].exact and not mixed["block_4"].exact
+
+
+def test_a_round_body_posed_without_its_turn_keeps_the_bound_below_the_truth():
+    """A flattened circle turning about its centre, posed without its turn (its speed its centre's,
+    as the machines pose a bearing on a planet): the bound still lies below the turning polygon's
+    true minimum, by its wobble (``Posed.wobble``, how far it is out of round) — standing still, and
+    with its centre moving."""
+    disc = shapely.affinity.rotate(shapely.Point(0.0, 0.0).buffer(10.0, quad_segs=4), 11.25, origin=(0, 0))
+    wobble = clearance.out_of_round(disc)  # a 16-gon: 10 (1 - cos(π/16)) = 0.19 mm
+    assert abs(wobble - 10 * (1 - math.cos(math.pi / 16))) < 1e-9
+    wall = Posed(shapely.box(10.05, -5.0, 15.0, 5.0), Posed.fixed, speed=0.0)
+    t = 2 * math.pi * np.arange(20_000) / 20_000
+    for shift in (0.0, 0.5):  # the centre still, or moving up to 1 mm back from the wall and up
+
+        def turning(theta, shift=shift):
+            theta = np.asarray(theta, dtype=float)
+            return shift * (np.cos(theta) - 1.0), shift * np.sin(theta), 3.0 * theta
+
+        def unturned(theta, shift=shift):
+            x, y, _ = turning(theta)
+            return x, y, np.zeros_like(x)
+
+        truth = float(clearance._distances(Posed(disc, turning, 30.0), wall, t).min())
+        found = closest_approach(Posed(disc, unturned, shift, wobble=wobble), wall, THETA)
+        assert found.bound <= truth + 1e-9 < found.distance + wobble
+        # without its wobble the search would state a bound above the truth
+        blind = closest_approach(Posed(disc, unturned, shift), wall, THETA)
+        assert blind.bound > truth + 0.05

@@ -11,11 +11,7 @@ import json
 from pathlib import PurePosixPath
 
 import ezdxf
-import numpy as np
 import pytest
-import shapely
-
-from transplanter.shop.assembly_drawing import Outline, _seen
 
 gmsh = pytest.importorskip("gmsh")
 
@@ -93,24 +89,3 @@ def test_gmsh_opens_the_assembly_step_with_one_volume_per_bom_body(built, family
         item = int(n.split(" ", 1)[0])
         counted[item] = counted.get(item, 0) + 1
     assert counted == {int(r["item"]): int(r["quantity"]) for r in rows}
-
-
-def test_what_the_drawing_shows_of_a_body_is_its_section_less_every_body_above_it():
-    """The drawing's covers are gathered level by level from the top (issue 46): what each body
-    shows is its section less the union of every body higher in z, whatever their order."""
-
-    def square(x, y, size):
-        v = np.array([[x, y, 0.0], [x + size, y, 0.0], [x + size, y + size, 0.0], [x, y + size, 0.0]])
-        return ((v, False),)
-
-    rng = np.random.default_rng(7)
-    zs = [(0.0, 5.0), (6.0, 9.0), (6.0, 9.0), (10.0, 12.0), (2.0, 14.0), (0.0, 5.0)]
-    outlines = [
-        Outline(f"b{k}", k + 1, square(*rng.uniform(0.0, 20.0, 2), rng.uniform(5.0, 25.0)), z) for k, z in enumerate(zs)
-    ]
-    seen = _seen(outlines)
-    for o in outlines:
-        above = [p.section for p in outlines if sum(p.z) > sum(o.z)]
-        want = o.section.difference(shapely.union_all(above)) if above else o.section
-        assert seen[o.name].symmetric_difference(want).area < 1e-9, o.name
-    assert seen["b3"].equals(outlines[3].section)  # the highest (z 10..12) is seen whole

@@ -31,6 +31,7 @@ import shapely
 from transplanter.core.errors import SpecError
 from transplanter.design.planetary import DifferentialTrain
 from transplanter.proof.clearance import (
+    CLEARANCE_REL_TOL,
     CLEARANCE_TOL_MM,
     Approach,
     Posed,
@@ -280,18 +281,25 @@ def judge_pairs(
 
 
 def _nearest_exactly(bodies: dict[str, Posed], found: dict, keep: dict, stated, theta, tol: float) -> dict:
-    """Each group's pairs that may be its nearest, measured again exactly: a group (every in-plane
-    pair, and each ``stated`` names) is stated by its least margin over the minimum, so each of its
-    pairs not ``exact`` whose lower bound's margin is no more than the least measured one's."""
-    groups: dict[str, list] = {}
+    """Each group's pairs that may be its nearest, measured again exactly. A group is stated by its
+    least margin over its minimum: every in-plane pair (by margin, and by distance alone: a
+    report's smallest clearance) and each group ``stated`` names. A pair not ``exact`` is measured
+    again where its lower bound's margin is within the exact tolerance of the least the group's
+    search found (the nearest's exact figure may lie up to that above it)."""
+    groups: dict[tuple, list] = {}
     for key, j in found.items():
-        if keep[key] is not None:
-            for name in {"", stated(j.pair)} - {None}:
-                groups.setdefault(name, []).append((key, j, keep[key]))
+        need = keep[key]
+        if need is not None:
+            named = stated(j.pair)
+            for group, less in ((("margin",), need), (("distance",), 0.0), (("stated", named), need)):
+                if named is not None or group[0] != "stated":
+                    groups.setdefault(group, []).append((key, j, less))
     again = set()
     for members in groups.values():
-        least = min((j.distance if j.nearest is None else j.nearest) - need for _, j, need in members)
-        again |= {key for key, j, need in members if not j.exact and j.distance - need <= least}
+        upper = [j.distance if j.nearest is None else j.nearest for _, j, _ in members]
+        k = min(range(len(members)), key=lambda i: upper[i] - members[i][2])
+        least = upper[k] - members[k][2] + 1.01 * max(tol, CLEARANCE_REL_TOL * upper[k])
+        again |= {key for key, j, less in members if not j.exact and j.distance - less <= least}
     return {(j.pair.a, j.pair.b): j for j in clearances(bodies, [found[k].pair for k in sorted(again)], theta, tol)}
 
 

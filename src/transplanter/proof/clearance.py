@@ -10,9 +10,10 @@ distance can therefore not fall below ``(d(θ0) + d(θ1) - L h) / 2``.
 
 :func:`closest_approach` samples ``d`` on every few of the given positions (about
 ``START_POSES`` of them) and cuts every interval whose bound reaches below the smallest value
-found by more than ``tol`` — into as many pieces as its ends' bounds would need were ``d`` no
-lower between them — until none does: the figure it returns is
-within ``tol`` of the true minimum over the continuous cycle (however narrow the approach — a
+found by more than the tolerance (``tol``, or a share of the distance, or, given the clearance
+``need`` the pair must keep, of its margin over it) — into as many pieces as its ends' bounds would
+need were ``d`` no lower between them — until none does: the figure it returns is
+within the tolerance of the true minimum over the continuous cycle (however narrow the approach — a
 tip passing a tip for 0.01° is bracketed like any other), and the angle where it lies. The
 bound holds if the poses between the samples move no faster than the stated speeds, which is
 what the caller certifies (:mod:`transplanter.machine.bodies` derives them from the train's ratios).
@@ -51,6 +52,7 @@ __all__ = [
     "closest_approach",
     "cycle_samples",
     "least_of",
+    "out_of_round",
     "overlap_areas",
     "posed_sections",
     "reach",
@@ -101,11 +103,26 @@ class Posed:
     #: the rigid frames its frame origin is a fixed point of, ``(frame, x, y)`` (mm): two bodies
     #: whose origins share a frame are never nearer than the origins less both reaches
     origin_in: tuple[tuple[str, float, float], ...] = ()
+    #: how far the body's true outline may lie from the posed one, mm: a round body posed without
+    #: its own turn (its speed its origin's) is out of round by this much (:func:`out_of_round`),
+    #: so every distance it is measured at is that uncertain both ways
+    wobble: float = 0.0
 
     @staticmethod
     def fixed(theta):
         z = np.zeros_like(np.asarray(theta, dtype=float))
         return z, z, z
+
+
+def out_of_round(section: shapely.Polygon) -> float:
+    """How far ``section`` and any turn of it about its frame origin can lie apart, mm: each of its
+    boundaries lies between the circles about the origin through its nearest and farthest point,
+    and so does every turn of it, which therefore lies within that band's width of it."""
+    rings = [section.exterior, *section.interiors] if isinstance(section, shapely.Polygon) else []
+    if not rings:
+        rings = [r for g in getattr(section, "geoms", []) for r in (g.exterior, *g.interiors)]
+    origin = shapely.Point(0.0, 0.0)
+    return max((reach(shapely.Polygon(r)) - float(shapely.distance(origin, r)) for r in rings), default=0.0)
 
 
 def posed_sections(section: shapely.Polygon, x, y, angle) -> np.ndarray:
@@ -262,7 +279,8 @@ def _ladder(a: Posed, b: Posed) -> list[tuple[Posed, Posed, float]]:
         la = a.levels[k] if k < len(a.levels) else (a.section, 0.0)
         lb = b.levels[k] if k < len(b.levels) else (b.section, 0.0)
         out.append((Posed(la[0], a.pose, a.speed), Posed(lb[0], b.pose, b.speed), la[1] + lb[1]))
-    return [*out, (a, b, 0.0)]
+    # (a round body posed without its turn is uncertain by its wobble on every level)
+    return [(pa, pb, slack + a.wobble + b.wobble) for pa, pb, slack in [*out, (a, b, 0.0)]]
 
 
 def _origin_floor(a: Posed, b: Posed) -> float:
@@ -321,8 +339,9 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, n
     theta = cycle_samples(theta, "closest_approach")
     lip = float(a.speed + b.speed)
     if lip == 0.0:  # neither moves (a shaft in its bore seen from their frame): one pose tells all
-        d = float(_distances(a, b, theta[:1])[0])
-        return Approach(d, float(np.mod(theta[0], 2 * math.pi)), d, 1, Samples.steady(theta, d))
+        d, w = float(_distances(a, b, theta[:1])[0]), a.wobble + b.wobble
+        exact = w <= max(tol, CLEARANCE_REL_TOL * d)
+        return Approach(d, float(np.mod(theta[0], 2 * math.pi)), max(0.0, d - w), 1, Samples.steady(theta, d), exact)
     # two bodies fixed or turning about the origin are never nearer than their radial gap
     floor = 0.0
     if a.radii is not None and b.radii is not None:
@@ -330,6 +349,7 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, n
     floor = max(floor, _origin_floor(a, b))
     ladder = _ladder(a, b)
     slack = np.array([s for _, _, s in ladder])
+    last = len(ladder) - 1
 
     def measure(times: np.ndarray, level: int) -> np.ndarray:
         pa, pb, _ = ladder[level]
@@ -349,17 +369,18 @@ def closest_approach(a: Posed, b: Posed, theta, tol: float = CLEARANCE_TOL_MM, n
         hi = v + slack[level]
         k = int(np.argmin(hi))
         best = float(hi[k])
-        within = _within(best, tol, need)
+        within = max(_within(best, tol, need), 2.5 * slack[last])  # (a wobble no outline settles)
         h = np.diff(np.append(t, t[0] + 2 * math.pi))
         low = np.maximum(0.5 * (lo + np.roll(lo, -1) - lip * h), floor)
         open_ = np.flatnonzero(low < best - within)
-        # the best pose itself must be settled to within the tolerance
-        if 2 * slack[level[k]] > within:
+        # the best pose itself must be settled to within the tolerance (as far as the finest
+        # outlines can: a round body's wobble stays)
+        if 2 * slack[level[k]] > within and level[k] < last:
             open_ = np.union1d(open_, [k, (k - 1) % len(t)])
         if lo[k] <= 0.0 or not len(open_):
             break
         ends = np.unique(np.concatenate([open_, (open_ + 1) % len(t)]))
-        ends = ends[2 * slack[level[ends]] > within]
+        ends = ends[(2 * slack[level[ends]] > within) & (level[ends] < last)]
         if len(ends):  # the ends of the open intervals on a finer outline first
             level[ends] += 1
             for lv in np.unique(level[ends]):

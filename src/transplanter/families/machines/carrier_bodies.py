@@ -26,7 +26,7 @@ from transplanter.families.machines.assembly import BoughtBody
 from transplanter.families.machines.record import BOUGHT, OUTLINE_TOL_MM, read_bodies
 from transplanter.machine.bodies import IN_PLANE, Body, Judged, Verdict, judge_pairs
 from transplanter.machine.hardware import Fitted, bought_drawing, mounted, read_turned
-from transplanter.proof.clearance import Samples, reach, relative
+from transplanter.proof.clearance import Samples, out_of_round, reach, relative
 
 __all__ = ["SCREWED", "assembly_inputs", "bought", "bought_files", "bodies", "drawing_name", "judge", "screws"]
 
@@ -189,8 +189,10 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
         if not _round(inner.section):
             return None
         at = centre_in(inner, outer)
-        if at is not None:
-            return float(shapely.distance(shapely.affinity.translate(inner.section, *at), outer.section))
+        if at is not None:  # measured with the round body unturned: as uncertain as it is out of round
+            d = float(shapely.distance(shapely.affinity.translate(inner.section, *at), outer.section))
+            wobble[(inner.name, outer.name)] = out_of_round(inner.section)
+            return d
         # the other about its own centre at one distance from this one's, clear of it: round too, or
         # turning a whole turn against the line of centres (its farthest point faces this one's centre)
         pa, pb = (
@@ -213,7 +215,7 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
                     return reach(own) - reach(inner.section)
         return None
 
-    exact, rest = {}, []
+    exact, rest, wobble = {}, [], {}
     for p in pairs:
         d = None
         if not p.joint and not p.working and p.axial_gap < gap:
@@ -229,8 +231,9 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
                 f"{p.a} and {p.b} keep {d:.4g} mm apart all round (clearance required {need:g} mm; "
                 f"axial gap {p.axial_gap:g} mm)"
             )
+        low = max(0.0, d - wobble.get((p.a, p.b), wobble.get((p.b, p.a), 0.0)))
         exact[(p.a, p.b)] = Verdict(
-            p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, d, Samples.steady(theta, d)), problem
+            p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, low, Samples.steady(theta, d)), problem
         )
     found = {(v.pair.a, v.pair.b): v for v in judge_pairs(ready, rest, theta, gap, required, stated=stated)}
     return [exact.get((p.a, p.b)) or found[(p.a, p.b)] for p in pairs]

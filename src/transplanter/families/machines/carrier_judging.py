@@ -130,7 +130,7 @@ def judge(study, files: dict[str, bytes], machine: DoubleCarrierMachine, shown: 
         problems.append(
             f"the claw enters the soil {depth['at_most_mm']:.4g} mm from its tip, beyond its {tines:.4g} mm tines"
         )
-    box = [j for j in judged if required(j.pair) == study.gearbox_above_soil]
+    box = [j for j in judged if above_soil(j.pair)]
     low = min(box, key=lambda j: j.distance)
     poses = poses_check(study, machine)
     problems += poses["problems"]

@@ -41,7 +41,7 @@ from transplanter.machine.bodies import (
 )
 from transplanter.machine.hardware import TURN
 from transplanter.machine.play import clearances_under_play
-from transplanter.proof.clearance import Posed, posed_sections, reach, relative
+from transplanter.proof.clearance import Posed, out_of_round, posed_sections, reach, relative
 from transplanter.shop.export import csv_bytes
 
 __all__ = ["joints_of", "judge", "objectives", "required_of", "work_depths", "door_margins"]
@@ -121,7 +121,8 @@ def _posed_in(bodies, links: dict[str, Link], about_origin: set[str], symmetric:
     frame's origin — exact for a body on a link turning about that origin, or for a symmetric body
     whose link's origin stands still (a shaft seen from its carrier); the origin's distance less and
     plus the body's reach for any other body on such a link; none otherwise — and a symmetric body
-    moving no faster than its origin."""
+    moving no faster than its origin, posed without its turn and so uncertain by how far it is out
+    of round (``Posed.wobble``: a flattened circle's chords, ~1 µm)."""
     ready = posed(bodies, links)
     zero = np.zeros(1)
     for b in bodies:
@@ -139,8 +140,12 @@ def _posed_in(bodies, links: dict[str, Link], about_origin: set[str], symmetric:
                 reach(b.section),
             )
             radii = (max(0.0, c - r), c + r)
-        speed = link.speed if b.name in symmetric else ready[b.name].speed
-        ready[b.name] = dataclasses.replace(ready[b.name], radii=radii, speed=speed)
+        if b.name in symmetric:  # posed without its turn: as uncertain as it is out of round
+            wobble = out_of_round(b.section)
+            radii = None if radii is None else (max(0.0, radii[0] - wobble), radii[1] + wobble)
+            ready[b.name] = dataclasses.replace(ready[b.name], radii=radii, speed=link.speed, wobble=wobble)
+        else:
+            ready[b.name] = dataclasses.replace(ready[b.name], radii=radii)
     return ready
 
 
@@ -291,6 +296,8 @@ def judge(
         nominal = {frozenset((j.pair.a, j.pair.b)): j for j in in_plane}
         settle = max(study.clearance, BOX_CLEARANCE_MM)  # what the pairs are judged against
         played = _under_play(bodies, frames, checked, grid, turn, planets, nominal, settle)
+        settled = sum(not j.exact for j in played.values())  # by the bound, without measuring
+        measured = len(played) - settled
         link_of = {b.name: b.link for b in bodies}
         played.update(
             {k: j for k, j in nominal.items() if k not in played and {link_of[j.pair.a], link_of[j.pair.b]} & planets}
@@ -328,8 +335,9 @@ def judge(
         under = [j for j in played.values() if j.distance < required(j.pair)]
         record_play = {
             "turn_deg": rounded(math.degrees(turn), 6),
-            "measured": sum(j.exact or j.nearest is not None for j in played.values()),
-            "settled_by_the_bound": sum(not j.exact and j.nearest is None for j in played.values()),
+            "measured": measured,
+            "settled_by_the_bound": settled,
+            "kept_by_symmetry": len(played) - measured - settled,
             "smallest_mm": rounded(worst.distance, 6),
             "bodies": [worst.pair.a, worst.pair.b],
             "at_driver_deg": round(worst.at_deg, 4),
@@ -445,8 +453,9 @@ DOOR = ("box_door_back", "box_door_front", "box_floor", "box_wall_back", "box_wa
 
 def stated_as(p: Pair) -> str | None:
     """The figure the record states a pair's group by, its nearest (``judge_pairs``' ``stated``):
-    objective ``i`` (two arms' bodies), ``ii`` (an arm's body, not its needle, and the box: the
-    needle enters it through the door), or a door part and a needle (:func:`door_margins`)."""
+    objective ``i`` (two arms' bodies), ``ii`` (any body but a needle against a part of the box,
+    not at its work: the needle enters it through the door), or a door part and a needle
+    (:func:`door_margins`)."""
     a, b = _arm_of(p.a), _arm_of(p.b)
     if a and b and a != b:
         return "i"

@@ -126,7 +126,8 @@ def clearance_row(v: Verdict, played: Judged | None = None, depth: dict | None =
     if played is not None and played.exact:
         row["under_play_mm"] = rounded(played.distance, 6)
         row["under_play_at_driver_deg"] = round(played.at_deg, 4)
-    elif played is not None:  # settled by the bound: no point moves further than turn x reach
+    elif played is not None:  # a lower bound: settled by the bound (no point moves further than
+        # turn x reach), or kept by symmetry from a nominal figure that is a lower bound
         row["under_play_at_least_mm"] = rounded(played.distance, 6)
     return row
 
