@@ -439,10 +439,6 @@ def _arm_of(name: str) -> str | None:
     return found.group(2) if found else None
 
 
-def _box_part(name: str) -> bool:
-    return name == "box" or name.startswith("box_")
-
-
 def _needle(name: str) -> bool:
     return re.fullmatch(r"needle_\d+", name) is not None
 
@@ -459,7 +455,8 @@ def stated_as(p: Pair) -> str | None:
     a, b = _arm_of(p.a), _arm_of(p.b)
     if a and b and a != b:
         return "i"
-    if _box_part(p.a) != _box_part(p.b) and not p.working and not (_needle(p.a) or _needle(p.b)):
+    box = [n == "box" or n.startswith("box_") for n in (p.a, p.b)]
+    if box[0] != box[1] and not p.working and not (_needle(p.a) or _needle(p.b)):
         return "ii"
     door = [part for part in DOOR if part in (p.a, p.b)]
     return f"door {door[0]}" if door and (_needle(p.a) or _needle(p.b)) else None
