@@ -249,8 +249,9 @@ def judge_pairs(
     and the largest area the two outlines share, where, and over how many positions.
 
     An in-plane pair is found to a share of its margin over ``required(pair)`` (:func:`clearances`)
-    but where the record states it: the pair nearest its minimum, and the nearest of each group
-    ``stated(pair)`` names (an objective's pairs, say), are found exactly (:func:`_nearest_exactly`)."""
+    but where the record states it: the pair nearest its minimum, the nearest by distance, and the
+    nearest of each group ``stated(pair)`` names (an objective's pairs, say), are found exactly
+    (:func:`_nearest_exactly`)."""
     measured = [p for p in pairs if not p.joint and (p.working or p.axial_gap < min_axial_gap)]
     keep = {(p.a, p.b): None if p.working else required(p) for p in measured}
     found = {(j.pair.a, j.pair.b): j for j in clearances(bodies, measured, theta, tol, keep)}
@@ -286,14 +287,15 @@ def _nearest_exactly(bodies: dict[str, Posed], found: dict, keep: dict, stated, 
     report's smallest clearance) and each group ``stated`` names. A pair not ``exact`` is measured
     again where its lower bound's margin is within the exact tolerance of the least the group's
     search found (the nearest's exact figure may lie up to that above it)."""
-    groups: dict[tuple, list] = {}
+    groups: dict[object, list] = {}
     for key, j in found.items():
         need = keep[key]
-        if need is not None:
-            named = stated(j.pair)
-            for group, less in ((("margin",), need), (("distance",), 0.0), (("stated", named), need)):
-                if named is not None or group[0] != "stated":
-                    groups.setdefault(group, []).append((key, j, less))
+        if need is None:  # at its work: not judged
+            continue
+        groups.setdefault("margin", []).append((key, j, need))
+        groups.setdefault("distance", []).append((key, j, 0.0))
+        if (named := stated(j.pair)) is not None:
+            groups.setdefault(("stated", named), []).append((key, j, need))
     again = set()
     for members in groups.values():
         upper = [j.distance if j.nearest is None else j.nearest for _, j, _ in members]

@@ -118,11 +118,9 @@ def out_of_round(section: shapely.Polygon) -> float:
     """How far ``section`` and any turn of it about its frame origin can lie apart, mm: each of its
     boundaries lies between the circles about the origin through its nearest and farthest point,
     and so does every turn of it, which therefore lies within that band's width of it."""
-    rings = [section.exterior, *section.interiors] if isinstance(section, shapely.Polygon) else []
-    if not rings:
-        rings = [r for g in getattr(section, "geoms", []) for r in (g.exterior, *g.interiors)]
     origin = shapely.Point(0.0, 0.0)
-    return max((reach(shapely.Polygon(r)) - float(shapely.distance(origin, r)) for r in rings), default=0.0)
+    rings = shapely.get_rings(shapely.get_parts(section))
+    return max((reach(r) - float(shapely.distance(origin, r)) for r in rings), default=0.0)
 
 
 def posed_sections(section: shapely.Polygon, x, y, angle) -> np.ndarray:

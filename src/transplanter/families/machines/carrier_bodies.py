@@ -159,9 +159,9 @@ def _round(section) -> bool:
 
 
 def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float, required, joints: dict, stated=None):
-    """:func:`~transplanter.machine.bodies.judge_pairs` for every pair (``stated`` its groups stated
-    by their nearest), except the pairs it would
-    bisect without end and that need none, whose in-plane distance is one figure all round:
+    """:func:`~transplanter.machine.bodies.judge_pairs` for every pair (``stated`` names the groups
+    stated by their nearest), except the pairs it would bisect without end and that need none,
+    whose in-plane distance is one figure all round:
 
     * a round body (a shaft, a ring, a spacer, a hub disc) whose centre stays at one point of the
       other body's frame keeps one distance from it — from that point's disc to the other's section,
@@ -185,14 +185,14 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
         x, y, _ = relative(pa, pb)
         return (float(x[0]), float(y[0])) if max(np.ptp(x), np.ptp(y)) <= 1e-6 else None
 
-    def one_figure(inner: Body, outer: Body):
+    def one_figure(inner: Body, outer: Body) -> tuple[float, float] | None:
+        """The one distance and how far below it the truth may lie, or None."""
         if not _round(inner.section):
             return None
         at = centre_in(inner, outer)
         if at is not None:  # measured with the round body unturned: as uncertain as it is out of round
             d = float(shapely.distance(shapely.affinity.translate(inner.section, *at), outer.section))
-            wobble[(inner.name, outer.name)] = out_of_round(inner.section)
-            return d
+            return d, out_of_round(inner.section)
         # the other about its own centre at one distance from this one's, clear of it: round too, or
         # turning a whole turn against the line of centres (its farthest point faces this one's centre)
         pa, pb = (
@@ -205,25 +205,25 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
             line = np.arctan2(pa[1] - pb[1], pa[0] - pb[0])
             turn = np.unwrap(pb[2] - line)  # (sampled: the step back to the start closes the turn)
             if _round(outer.section) or np.ptp(turn) + np.abs(np.diff(turn)).max() >= 2 * np.pi:
-                return gap
+                return gap, 0.0
         rolling = [r for r in by.values() if "rolling contact" in joints.get(frozenset((r.name, outer.name)), "")]
         for roller in rolling:
             at = centre_in(inner, roller)
             if at is not None:
                 own = shapely.affinity.translate(roller.section, -at[0], -at[1])
                 if _round(own) and reach(own) >= reach(inner.section):
-                    return reach(own) - reach(inner.section)
+                    return reach(own) - reach(inner.section), 0.0
         return None
 
-    exact, rest, wobble = {}, [], {}
+    exact, rest = {}, []
     for p in pairs:
-        d = None
+        one = None
         if not p.joint and not p.working and p.axial_gap < gap:
-            d = one_figure(by[p.a], by[p.b])
-            d = one_figure(by[p.b], by[p.a]) if d is None else d
-        if d is None:
+            one = one_figure(by[p.a], by[p.b]) or one_figure(by[p.b], by[p.a])
+        if one is None:
             rest.append(p)
             continue
+        d, below = one
         need = required(p)
         problem = ""
         if d < need:
@@ -231,9 +231,8 @@ def judge(bodies: list[Body], links: dict, ready: dict, pairs, theta, gap: float
                 f"{p.a} and {p.b} keep {d:.4g} mm apart all round (clearance required {need:g} mm; "
                 f"axial gap {p.axial_gap:g} mm)"
             )
-        low = max(0.0, d - wobble.get((p.a, p.b), wobble.get((p.b, p.a), 0.0)))
         exact[(p.a, p.b)] = Verdict(
-            p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, low, Samples.steady(theta, d)), problem
+            p, IN_PLANE, d, need, not problem, Judged(p, d, 0.0, max(0.0, d - below), Samples.steady(theta, d)), problem
         )
     found = {(v.pair.a, v.pair.b): v for v in judge_pairs(ready, rest, theta, gap, required, stated=stated)}
     return [exact.get((p.a, p.b)) or found[(p.a, p.b)] for p in pairs]

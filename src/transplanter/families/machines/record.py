@@ -102,8 +102,7 @@ def clearance_row(v: Verdict, played: Judged | None = None, depth: dict | None =
     approach, where it lies and its bound (a pair found only to a share of its margin over its
     minimum states that bound as ``min_mm``, ``exact`` False, and the nearest the search found, at
     ``at_driver_deg`` (an upper bound), as ``nearest_measured_mm``: the true minimum lies between
-    the two); a
-    joint's or a working pair's reason."""
+    the two); a joint's or a working pair's reason."""
     j = v.judged
     row = {
         "bodies": [v.pair.a, v.pair.b],
