@@ -127,6 +127,13 @@ def main() -> None:
     )
 
 
+def _tolerance(mm: float) -> float:
+    """The clearance tolerance of a figure of ``mm`` (``proof.clearance``: 5 µm or 1e-3 of it)."""
+    from transplanter.proof.clearance import CLEARANCE_REL_TOL, CLEARANCE_TOL_MM
+
+    return max(CLEARANCE_TOL_MM, CLEARANCE_REL_TOL * mm)
+
+
 def _bracketed(ours: dict, exact: dict) -> tuple[int, float]:
     """How many of ``ours``' in-plane rows state a bracket (``min_mm`` to ``nearest_measured_mm``, or
     the one figure) that the ``exact`` record's figure lies outside by more than its tolerance, and
@@ -135,7 +142,7 @@ def _bracketed(ours: dict, exact: dict) -> tuple[int, float]:
     for a, b in zip(ours["clearances"], exact["clearances"], strict=True):
         if "min_mm" in a:
             low, high = a["min_mm"], a.get("nearest_measured_mm", a["min_mm"])
-            allowed = max(5e-3, 1e-3 * b["min_mm"])
+            allowed = _tolerance(b["min_mm"])
             missed += not low - allowed <= b["min_mm"] <= high + allowed
             widest = max(widest, high - low)
     return missed, widest
@@ -152,7 +159,7 @@ def _agree(ours: dict, base: dict) -> tuple[float, str]:
                 (lo_a, hi_a), (lo_b, hi_b) = ((r[key], r.get("nearest_measured_mm", r[key])) for r in (a, b))
                 if key == "under_play_mm":
                     hi_a, hi_b = lo_a, lo_b
-                off = max(0.0, lo_a - hi_b, lo_b - hi_a) / max(5e-3, 1e-3 * b[key])
+                off = max(0.0, lo_a - hi_b, lo_b - hi_a) / _tolerance(b[key])
                 if off > worst:
                     worst, where = off, f"{' - '.join(a['bodies'])} {key}"
     return worst, where
