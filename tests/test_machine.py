@@ -132,7 +132,11 @@ def test_an_independent_judge_finds_every_stated_clearance(built, family, pairs)
     folder, rec = _machine(built, family)
     machine = rec["results"]["machine"]
     bodies = machine["bodies"]
-    sections = {n: _section((folder / b["dxf"]).read_bytes(), b["layer"]) for n, b in bodies.items()}
+    read: dict = {}  # one reading per file and layer (three planets share a DXF)
+    for b in bodies.values():
+        if (b["dxf"], b["layer"]) not in read:
+            read[b["dxf"], b["layer"]] = _section((folder / b["dxf"]).read_bytes(), b["layer"])
+    sections = {n: read[b["dxf"], b["layer"]] for n, b in bodies.items()}
     for n, b in bodies.items():
         if b.get("mirrored"):
             sections[n] = shapely.affinity.scale(sections[n], 1.0, -1.0, origin=(0, 0))
@@ -164,9 +168,10 @@ def test_an_independent_judge_finds_every_stated_clearance(built, family, pairs)
                 assert apart, f"{a} and {b} share a plane but the record leaves them out"
                 continue
             small, big = sorted((a, b), key=lambda m: len(shapely.get_coordinates(sections[m])))
-            shapely.prepare(sections[big])
+            hulls = {m: sections[m].convex_hull for m in (small, big)}
+            shapely.prepare([sections[big], hulls[big]])
 
-            def at(rows, f=0.0, small=small, big=big):  # at rows (+ a fraction f of the next, interpolated)
+            def at(rows, f=0.0, shapes=sections, small=small, big=big):  # at rows (+ f of the next, interpolated)
                 def between(now, nxt):  # x, y, then the angle the short way round (deg)
                     step = [w - u for u, w in zip(now, nxt, strict=True)]
                     step[2] = (step[2] + 180.0) % 360.0 - 180.0
@@ -174,16 +179,31 @@ def test_an_independent_judge_finds_every_stated_clearance(built, family, pairs)
 
                 p1 = between(pose(small, rows % n), pose(small, (rows + 1) % n))
                 p2 = between(pose(big, rows % n), pose(big, (rows + 1) % n))
-                return shapely.distance(sections[big], _relative_many(sections[small], p1, p2))
+                return shapely.distance(shapes[big], _relative_many(shapes[small], p1, p2))
 
-            d = at(np.arange(0, n, 12))
-            k = 12 * int(np.argmin(d))
+            def least(rows, f=0.0, at=at, hulls=hulls):
+                """The smallest distance at these poses and its row. The hulls' distance is below
+                the bodies' at every pose, so the poses are measured nearest hulls first, and the
+                search stops once no hull is nearer than the least found: the same minimum as
+                measuring them all."""
+                below = at(rows, f, hulls)
+                order = np.argsort(below, kind="stable")
+                best, where = math.inf, int(rows[order[0]])
+                for start in range(0, len(order), 8):
+                    take = order[start : start + 8]
+                    take = take[below[take] < best]
+                    if not take.size:
+                        break
+                    d = at(rows[take], f)
+                    if d.min() < best:
+                        best, where = float(d.min()), int(rows[take][int(np.argmin(d))])
+                return best, where
+
+            coarse, k = least(np.arange(0, n, 12))
             # between the rows around the closest, poses interpolated — not across the end of the
             # turn: a body on the ring is not back at its start after one carrier turn
             near = np.arange(max(k - 12, 0), min(k + 12, n - 1))
-            found = min(
-                float(d.min()), float(at(np.array([n - 1])).min()), *(float(at(near, f).min()) for f in (0.0, 0.5))
-            )
+            found = min(coarse, least(np.array([n - 1]))[0], *(least(near, f)[0] for f in (0.0, 0.5)))
             # the true minimum lies in [claim, nearest]: one figure, or a far pair's bracket (found to a
             # share of its margin over its minimum, stated as its lower bound)
             claim, nearest = row["min_mm"], row.get("nearest_measured_mm", row["min_mm"])
