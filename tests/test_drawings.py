@@ -119,8 +119,9 @@ def test_librecad_renders_every_dimension_at_its_true_value(tmp_path):
     assert shown.shape != wrong.shape or int((shown != wrong).sum()) > 100
 
 
-def _layers(data: bytes) -> dict[str, int]:
-    doc = ezdxf.read(io.StringIO(data.decode()))
+def _layers(data) -> dict[str, int]:
+    """Entities per layer of a DXF (its bytes, or the document already read)."""
+    doc = ezdxf.read(io.StringIO(data.decode())) if isinstance(data, bytes) else data
     found: dict[str, int] = {}
     for e in doc.modelspace():
         found[e.dxf.layer] = found.get(e.dxf.layer, 0) + 1
@@ -153,8 +154,9 @@ def test_an_outline_not_to_cut_is_off_the_cut_layer_and_read_from_its_own():
         dxf.read_section(buf.getvalue().encode())
 
 
-def _notes(data: bytes) -> list[str]:
-    doc = ezdxf.read(io.StringIO(data.decode()))
+def _notes(data) -> list[str]:
+    """The ANNOTATION texts of a DXF (its bytes, or the document already read)."""
+    doc = ezdxf.read(io.StringIO(data.decode())) if isinstance(data, bytes) else data
     return [t.dxf.text for t in doc.modelspace().query("TEXT[layer=='ANNOTATION']")]
 
 
@@ -192,7 +194,8 @@ def check_layers(folder) -> dict[str, int]:
     for path in sorted(folder.rglob("*.dxf")):
         data = path.read_bytes()
         assert data.isascii(), f"{path.name} is not ASCII"
-        on = _layers(data)
+        doc = ezdxf.read(io.StringIO(data.decode()))  # read once for its layers and its notes
+        on = _layers(doc)
         outline = set(on) & set(dxf.OUTLINES)
         if path.name.endswith("assembly.dxf"):
             kind, want = "assembly", outline - {dxf.CUT}
@@ -201,7 +204,7 @@ def check_layers(folder) -> dict[str, int]:
         elif path.name.endswith(".bought.dxf"):
             kind, want = "bought", {dxf.BOUGHT}
         else:
-            notes = _notes(data)
+            notes = _notes(doc)
             made = [int(m.group(1)) for t in notes if (m := _MAKE.match(t))]
             kind = "cut" if made and made[0] >= 1 else "not cut"
             want = {dxf.CUT} if kind == "cut" else {dxf.REFERENCE}

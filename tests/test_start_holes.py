@@ -14,10 +14,18 @@ from transplanter.shop.dxf import START_HOLE_MARGIN_MM
 
 
 def _contours_and_start_holes(data: bytes):
-    """The CUT contours as exact arcs (bulges flattened to 0.01 µm) and the START_HOLES circles."""
-    rings = [shapely.LinearRing(v[:, :2]) for v in dxf.read_contours(data, 1e-5)]
-    doc = ezdxf.read(io.StringIO(data.decode()))
-    holes = doc.modelspace().query("CIRCLE[layer=='START_HOLES']")
+    """The outline's contours as exact arcs (bulges flattened to 0.01 µm) and the START_HOLES
+    circles, from one reading of the file."""
+    msp = ezdxf.read(io.StringIO(data.decode())).modelspace()
+    verts = [
+        list(e.get_points("xyb"))
+        if e.dxftype() == "LWPOLYLINE"
+        else [(v.dxf.location.x, v.dxf.location.y, v.dxf.bulge) for v in e.vertices]
+        for e in msp.query("LWPOLYLINE POLYLINE")
+        if e.dxf.layer in dxf.OUTLINES
+    ]
+    rings = [shapely.LinearRing(dxf.arcs_to_points(v, 1e-5)) for v in verts]
+    holes = msp.query("CIRCLE[layer=='START_HOLES']")
     return rings, [(c.dxf.center.x, c.dxf.center.y, c.dxf.radius) for c in holes]
 
 
