@@ -8,6 +8,7 @@ manifest's within the 1 µm read-back budget plus its own bisection step (0.1 µ
 """
 
 import csv
+import functools
 import json
 import math
 import os
@@ -84,7 +85,8 @@ def _ogr_contours(path, layer="CUT"):
 READERS = ["ezdxf"] + (["ogr"] if shutil.which("ogr2ogr") else [])
 
 
-def _section(path, reader="ezdxf", layer="CUT"):
+@functools.cache  # the shared build's files are read, never written, by this module's tests
+def _section(path: str, reader="ezdxf", layer="CUT"):
     """The section on the drawing's outline layer (``layer``: CUT for a part to cut, REFERENCE for
     a drawing marked do not cut, as the manifest's ``dxf_layer`` says)."""
     contours = _exact_contours(path, layer) if reader == "ezdxf" else _ogr_contours(path, layer)
@@ -213,8 +215,8 @@ def test_dxf_arcs_only_remove_material(built):
             if ring:  # the toothed contour is the ring's largest hole; material lies outside it
                 teeth = max((shapely.Polygon(r) for r in body.interiors), key=lambda p: p.area)
                 pts = shapely.get_coordinates(teeth.exterior)
-                wrong = shapely.contains_xy(outline, pts[:, 0], pts[:, 1])
-                wrong &= shapely.distance(outline.exterior, shapely.points(pts)) > 1e-9
+                wrong = shapely.contains_xy(outline, pts[:, 0], pts[:, 1])  # (a point on the outline is not in it)
+                wrong[wrong] = shapely.distance(outline.exterior, shapely.points(pts[wrong])) > 1e-9
                 assert not wrong.any(), stem
                 lost = teeth.area - outline.area
             else:
