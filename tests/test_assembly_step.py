@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 import shapely
 
-from transplanter.core.errors import GeometryError, SpecError
+from transplanter.core.errors import ExportError, GeometryError, SpecError
 from transplanter.shop import formats
 from transplanter.shop.assembly_read import read_bodies, verify
 from transplanter.shop.assembly_step import Placed, Solid, frame, solid_of, step_bytes
@@ -83,6 +83,11 @@ def test_a_body_moved_missing_or_of_another_size_fails(assembly):
     bigger = [*placed[:-1], Placed("bearing_2", "6000-2Z", 2, Solid.ring(10, 26, 8.01), placed[-1].at)]
     with pytest.raises(GeometryError, match="volume"):
         verify(data, bigger, readers=("gmsh",))
+    # two occurrences by one name (a file edited, or written by another tool): OCP's reading says so
+    renamed = data.replace(b"'2 bearing_2'", b"'2 bearing_1'")
+    assert renamed != data
+    with pytest.raises(ExportError, match="names two occurrences '2 bearing_1'"):
+        verify(renamed, placed)
 
 
 def test_bought_parts_are_simple_solids_of_their_catalogue_dimensions():

@@ -182,21 +182,23 @@ def test_an_independent_judge_finds_every_stated_clearance(built, family, pairs)
                 return shapely.distance(shapes[big], _relative_many(shapes[small], p1, p2))
 
             def least(rows, f=0.0, at=at, hulls=hulls):
-                """The smallest distance at these poses and its row. The hulls' distance is below
-                the bodies' at every pose, so the poses are measured nearest hulls first, and the
-                search stops once no hull is nearer than the least found: the same minimum as
-                measuring them all."""
+                """The smallest distance at these poses and its first row (``rows`` ascending), as
+                measuring them all gives it. The hulls' distance is below the bodies' at every pose
+                (but for GEOS's rounding, ~1e-13 mm: 1e-9 of slack), so the poses are measured
+                nearest hulls first, and the search stops once no hull is nearer than the least
+                found — every pose that may tie it measured, the first of them kept."""
                 below = at(rows, f, hulls)
                 order = np.argsort(below, kind="stable")
                 best, where = math.inf, int(rows[order[0]])
                 for start in range(0, len(order), 8):
                     take = order[start : start + 8]
-                    take = take[below[take] < best]
+                    take = take[below[take] <= best + 1e-9]
                     if not take.size:
                         break
                     d = at(rows[take], f)
-                    if d.min() < best:
-                        best, where = float(d.min()), int(rows[take][int(np.argmin(d))])
+                    first = int(rows[take][d == d.min()].min())
+                    if d.min() < best or (d.min() == best and first < where):
+                        best, where = float(d.min()), first
                 return best, where
 
             coarse, k = least(np.arange(0, n, 12))

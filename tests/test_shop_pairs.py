@@ -85,7 +85,7 @@ def _ogr_contours(path, layer="CUT"):
 READERS = ["ezdxf"] + (["ogr"] if shutil.which("ogr2ogr") else [])
 
 
-@functools.cache  # the shared build's files are read, never written, by this module's tests
+@functools.cache  # the shared build's files are read, never written, by this module's tests (call it positionally)
 def _section(path: str, reader="ezdxf", layer="CUT"):
     """The section on the drawing's outline layer (``layer``: CUT for a part to cut, REFERENCE for
     a drawing marked do not cut, as the manifest's ``dxf_layer`` says)."""
@@ -209,7 +209,7 @@ def test_dxf_arcs_only_remove_material(built):
             with open(family / f"{stem}.outline.csv") as f:
                 rows = list(csv.reader(f))[1:]
             outline = shapely.Polygon(np.array(rows, dtype=float))
-            body = _section(str(family / f"{stem}.dxf"), layer=rec["results"][role]["made"]["dxf_layer"])
+            body = _section(str(family / f"{stem}.dxf"), "ezdxf", rec["results"][role]["made"]["dxf_layer"])
             assert isinstance(body, shapely.Polygon)
             ring = rec["results"]["assembly"]["ring"] == role
             if ring:  # the toothed contour is the ring's largest hole; material lies outside it

@@ -87,7 +87,10 @@ def _ocp_bodies(data: bytes) -> dict[str, Found]:
         # the occurrence's placement as the file states it, applied to its product's centre
         t = tool.GetLocation_s(label).Transformation()
         m = np.array([[t.Value(i, j) for j in range(1, 5)] for i in range(1, 4)])
-        out[name.Get().ToExtString()] = (volume, m @ np.append(own, 1.0), solids, own)
+        key = name.Get().ToExtString()
+        if key in out:  # two bodies by one name: a bill or a CAD tree cannot tell them apart
+            raise ExportError(f"the assembly STEP names two occurrences {key!r}")
+        out[key] = (volume, m @ np.append(own, 1.0), solids, own)
     return out
 
 
