@@ -15,6 +15,7 @@ import shapely
 from reference_teeth import boolean_reference, flank_deviation
 from transplanter.core.errors import GeometryError, SpecError
 from transplanter.families import run_script
+from transplanter.geometry.contact import distance_to_ring
 from transplanter.geometry.cutter import ShaperCutter, involute
 from transplanter.geometry.pitch import Constant, GearPair, PitchCurve
 from transplanter.geometry.teeth import CHORD_TOLERANCE, ArcFrame, generate
@@ -55,18 +56,11 @@ def _involute_deviation(gear, z, m, x, internal, points_of):
 
 def _to_boundary(polygon):
     """Each point's distance to the polygon's boundary — ``shapely.distance(boundary, points)`` —
-    with its nearest segment found in an STRtree of the boundary's segments (built once), not by
-    trying every segment for every point: a function of the points ``(n, 2)``."""
-    ends = [(r[:-1], r[1:]) for r in map(shapely.get_coordinates, shapely.get_rings(polygon))]
-    tree = shapely.STRtree(shapely.linestrings(np.stack([np.concatenate(e) for e in zip(*ends, strict=True)], axis=1)))
-
-    def distances(xy: np.ndarray) -> np.ndarray:
-        (which, _), d = tree.query_nearest(shapely.points(xy), return_distance=True, all_matches=False)
-        out = np.empty(len(xy))
-        out[which] = d
-        return out
-
-    return distances
+    as the least of its distances to each ring, each found by the nearest segment in an STRtree
+    (``contact.distance_to_ring``), not by GEOS trying every segment for every point: a function
+    of the points ``(n, 2)``."""
+    rings = [distance_to_ring(shapely.get_coordinates(r)) for r in shapely.get_rings(polygon)]
+    return lambda xy: np.min([to_ring(xy) for to_ring in rings], axis=0)
 
 
 def _surviving_flank_points(gear):
