@@ -32,6 +32,7 @@ Examples
 from __future__ import annotations
 
 import functools
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -116,11 +117,9 @@ def _seen(outlines: list[Outline]) -> dict[str, shapely.Geometry]:
     # what covers a body depends on its height alone: the bodies above it, gathered from the top
     # down, each level's cover the one above's and that level's bodies
     levels = sorted({sum(o.z) for o in outlines}, reverse=True)
-    covers: dict[float, shapely.Geometry] = {}
-    cover = shapely.Polygon()
-    for level in levels:
-        covers[level] = cover
-        cover = shapely.union_all([cover, *(o.section for o in outlines if sum(o.z) == level)])
+    covers = {levels[0]: shapely.Polygon()} if levels else {}
+    for level, below in itertools.pairwise(levels):  # (nothing lies below the lowest: no cover for it)
+        covers[below] = shapely.union_all([covers[level], *(o.section for o in outlines if sum(o.z) == level)])
     return {o.name: o.section.difference(covers[sum(o.z)]) for o in outlines}
 
 

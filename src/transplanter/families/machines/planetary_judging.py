@@ -456,10 +456,11 @@ def stated_as(p: Pair) -> str | None:
     if a and b and a != b:
         return "i"
     box = [n == "box" or n.startswith("box_") for n in (p.a, p.b)]
-    if box[0] != box[1] and not p.working and not (_needle(p.a) or _needle(p.b)):
+    needle = _needle(p.a) or _needle(p.b)
+    if box[0] != box[1] and not p.working and not needle:
         return "ii"
     door = [part for part in DOOR if part in (p.a, p.b)]
-    return f"door {door[0]}" if door and (_needle(p.a) or _needle(p.b)) else None
+    return f"door {door[0]}" if door and needle else None
 
 
 def _played(played: dict, among: list[Judged]) -> dict:
