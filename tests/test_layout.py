@@ -6,6 +6,7 @@ the gear study knows no paper; the maths layer free of adapters (issue 28, ``../
 from __future__ import annotations
 
 import ast
+import functools
 
 import pytest
 
@@ -34,7 +35,11 @@ MAX_TOP_ENTRIES = 12
 MAX_LINES = 500
 
 
-GRAPH = {name: imports(name, path) for name, path in MODULES.items()}
+@functools.cache
+def graph() -> dict:
+    """Every module's imports (read when a test first asks, not when the suite is collected: ~1 s
+    in each worker)."""
+    return {name: imports(name, path) for name, path in MODULES.items()}
 
 
 def _within(name: str, entry: str) -> bool:
@@ -51,7 +56,7 @@ def _layer(name: str) -> int:
 def test_every_module_is_in_a_layer_and_imports_only_below():
     upward = [
         f"{name} (layer {_layer(name)}) imports {dep} (layer {_layer(dep)})"
-        for name, (deps, _) in GRAPH.items()
+        for name, (deps, _) in graph().items()
         for dep in deps
         if dep in MODULES and _layer(dep) > _layer(name)
     ]
@@ -64,8 +69,8 @@ def test_no_import_circle():
 
     def visit(node, path):
         state[node] = 1
-        for dep in sorted(GRAPH[node][0]):
-            if dep not in GRAPH or dep == node:
+        for dep in sorted(graph()[node][0]):
+            if dep not in graph() or dep == node:
                 continue
             if state.get(dep) == 1:
                 circles.append(" -> ".join([*path[path.index(dep) :], dep]))
@@ -73,7 +78,7 @@ def test_no_import_circle():
                 visit(dep, [*path, dep])
         state[node] = 2
 
-    for node in GRAPH:
+    for node in graph():
         if node not in state and not node.endswith("__init__"):
             visit(node, [node])
     # a package's __init__ re-exports its modules: a circle only through an __init__ is not one
@@ -106,15 +111,15 @@ def test_every_package_says_what_it_holds_and_may_import(package):
 def test_the_gear_pair_stations():
     lines = {n: len(p.read_text().splitlines()) for n, p in MODULES.items()}
     assert lines["families.pairs.toothed"] <= 300 and lines["geometry.teeth"] <= MAX_LINES
-    assert not GRAPH["families.pairs.toothed"][0] & {"design.objectives", "design.planetary"}  # no paper
-    assert not GRAPH["geometry.teeth"][0] & {"geometry.interference", "geometry.backlash"}  # one gear
+    assert not graph()["families.pairs.toothed"][0] & {"design.objectives", "design.planetary"}  # no paper
+    assert not graph()["geometry.teeth"][0] & {"geometry.interference", "geometry.backlash"}  # one gear
 
 
 def test_families_reach_the_shop_formats_through_formats_only():
     formats = {"shop.dxf", "shop.stl", "shop.step", "shop.threemf"}
     direct = {
         name: sorted(deps & formats | outer & {"ezdxf", "OCP", "lib3mf"})
-        for name, (deps, outer) in GRAPH.items()
+        for name, (deps, outer) in graph().items()
         if name.startswith("families.")
     }
     assert {n: d for n, d in direct.items() if d} == {}
@@ -122,7 +127,7 @@ def test_families_reach_the_shop_formats_through_formats_only():
 
 def test_the_maths_imports_no_adapter():
     found = {
-        name: sorted(outer & ADAPTERS) for name, (_, outer) in GRAPH.items() if any(_within(name, m) for m in MATHS)
+        name: sorted(outer & ADAPTERS) for name, (_, outer) in graph().items() if any(_within(name, m) for m in MATHS)
     }
     assert {n: a for n, a in found.items() if a} == {}
     assert all(any(_within(n, m) for n in MODULES) for m in MATHS)  # every name still a module

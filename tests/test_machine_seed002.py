@@ -204,6 +204,12 @@ def test_the_gear_and_cam_routes_reproduce_the_chain(seed002):
     assert np.abs(m.tip(t) - m.to_machine(ch.state(t).tip)).max() < 0.02
     poses = m.poses(t)
     assert np.ptp(poses["sun"][2]) < 1e-9 and np.ptp(poses["carrier1"][0]) == 0.0
+    # the poses of the last few position sets are kept: asked in turn (a link's stencil, then its
+    # positions), each answer is the one computed afresh
+    fresh = dataclasses.replace(m).poses(t[::7])
+    for _ in range(2):
+        assert m.poses(t) is poses and m.poses(t[::7]).keys() == fresh.keys()
+    assert all(np.array_equal(a, b) for k in fresh for a, b in zip(m.poses(t[::7])[k], fresh[k], strict=True))
     rel = np.unwrap(poses["arm"][2] - poses["carrier1"][2])
     assert rel[-1] - rel[0] == pytest.approx(2 * math.pi, abs=1e-6)
     # the shafts keep their distances on carrier 1 and 2

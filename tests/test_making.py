@@ -5,6 +5,8 @@ points that are themselves within 0.25 µm of the envelope); STL volume 1e-6 rel
 is the exact polygon section extruded: only float round-off, ~1e-9, separates them).
 """
 
+import math
+
 import numpy as np
 import pytest
 import shapely
@@ -38,6 +40,39 @@ def test_arc_fit_beats_segments_like_the_anchor():
     seg = np.diff(np.vstack([pts, pts[:1]]), axis=0)
     turn = np.abs(np.angle(np.exp(1j * np.diff(np.arctan2(seg[:, 1], seg[:, 0])))))
     assert turn.max() < 0.01
+
+
+def _bulge_points_per_vertex(verts, sagitta):
+    """arcs.bulge_points as it was written first: numpy at every vertex (the reference it keeps to the bit)."""
+    out = []
+    for k in range(len(verts)):
+        p0, p1, b = verts[k, :2], verts[(k + 1) % len(verts), :2], verts[k, 2]
+        out.append(p0[None])
+        if b == 0.0:
+            continue
+        theta = 4.0 * math.atan(b)
+        chord = p1 - p0
+        c = math.hypot(*chord)
+        r = c / (2.0 * math.sin(theta / 2))
+        centre = (p0 + p1) / 2 + np.array([-chord[1], chord[0]]) / c * r * math.cos(theta / 2)
+        steps = max(1, math.ceil(abs(theta) / (2 * math.acos(max(-1.0, 1 - sagitta / abs(r))))))
+        a = math.atan2(p0[1] - centre[1], p0[0] - centre[0]) + theta * np.arange(1, steps) / steps
+        out.append(np.stack([centre[0] + abs(r) * np.cos(a), centre[1] + abs(r) * np.sin(a)], axis=1))
+    return np.concatenate(out)
+
+
+def test_bulge_points_are_the_per_vertex_formula_to_the_bit_and_within_the_sagitta():
+    rng = np.random.default_rng(7)
+    t = np.linspace(0, 2 * np.pi, 4000, endpoint=False)
+    verts = arcs.fit_arcs(np.stack([34 * np.cos(t), 26 * np.sin(t)], axis=1), tolerance=1e-3)
+    bulges = np.where(rng.random(60) < 0.3, 0.0, rng.uniform(-1, 1, 60))  # lines and arcs up to half circles
+    mixed = np.column_stack((rng.uniform(-50, 50, (60, 2)), bulges))
+    for v, sagitta in ((verts, 1e-3), (verts, 1e-4), (mixed, 1e-3), (np.array([[1.0, 2.0, 0.0]]), 1e-3)):
+        got = arcs.bulge_points(v, sagitta)
+        assert got.shape == _bulge_points_per_vertex(v, sagitta).shape
+        assert got.tobytes() == _bulge_points_per_vertex(v, sagitta).tobytes()
+    # every chord of the ellipse's arcs within the sagitta of the fitted curve it samples
+    assert dxf.contour_deviation(dxf.arcs_to_points(verts, 1e-6), arcs.bulge_points(verts, 1e-4)) < 1.01e-4
 
 
 @pytest.mark.parametrize("version", ["R2000", "R12"])

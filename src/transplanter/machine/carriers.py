@@ -48,6 +48,8 @@ __all__ = ["MadeMesh", "CarrierLayout", "DoubleCarrierMachine", "machine_frame",
 TWO_PI = 2 * math.pi
 #: samples per turn the speed bounds are taken from (plus the largest change between two)
 BOUND_SAMPLES = 20_000
+#: the last sets of positions whose poses are kept (:meth:`DoubleCarrierMachine.poses`)
+POSES_KEPT = 4
 
 
 @dataclass(frozen=True)
@@ -266,11 +268,12 @@ class DoubleCarrierMachine:
         the tip) — each a link's ``pose``."""
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         # each body's link asks for the same positions in turn (a clearance pair, the motion
-        # table): the last answer is kept
+        # table; the loads ask each link at its five-point stencil, then at the positions): the
+        # last few answers are kept
         key = theta.tobytes()
-        last = self._memo.get("poses")
-        if last is not None and last[0] == key:
-            return last[1]
+        kept = self._memo.setdefault("poses", {})
+        if key in kept:
+            return kept[key]
         a = self.angles(theta)
         lay = self.layout
         l1, l2, _ = self.chain.link_lengths
@@ -305,7 +308,9 @@ class DoubleCarrierMachine:
             "gear11": (qx, qy, c2 + a["gear11"]),
             "arm": (qx, qy, c2 + a["gear11"] + self.arm_offset),
         }
-        self._memo["poses"] = (key, out)
+        if len(kept) >= POSES_KEPT:
+            del kept[next(iter(kept))]  # the oldest
+        kept[key] = out
         return out
 
     @property

@@ -177,23 +177,29 @@ def bulge_area(verts: np.ndarray) -> float:
 
 def bulge_points(verts: np.ndarray, sagitta: float = 1e-3) -> np.ndarray:
     """Closed bulge vertices ``(n, 3)`` flattened to points ``(m, 2)`` (the first not repeated),
-    each arc sampled so that no chord leaves it by more than ``sagitta`` mm; numpy only."""
-    v = np.asarray(verts, dtype=float)
-    out = []
-    for k in range(len(v)):
-        p0, p1, b = v[k, :2], v[(k + 1) % len(v), :2], v[k, 2]
-        out.append(p0[None])
+    each arc sampled so that no chord leaves it by more than ``sagitta`` mm. An arc's centre and
+    start are found in Python floats (the same operations numpy did on each vertex, in the same
+    order: the same bits, without numpy's cost per vertex), its points with numpy."""
+    rows = np.asarray(verts, dtype=float).tolist()
+    out: list[np.ndarray] = []
+    run: list[tuple[float, float]] = []  # the vertices since the last arc
+    for k, (x0, y0, b) in enumerate(rows):
+        run.append((x0, y0))
         if b == 0.0:
             continue
+        x1, y1 = rows[(k + 1) % len(rows)][:2]
         theta = 4.0 * math.atan(b)
-        chord = p1 - p0
-        c = math.hypot(*chord)
+        dx, dy = x1 - x0, y1 - y0
+        c = math.hypot(dx, dy)
         r = c / (2.0 * math.sin(theta / 2))  # signed: the centre lies left of the chord for b > 0
-        centre = (p0 + p1) / 2 + np.array([-chord[1], chord[0]]) / c * r * math.cos(theta / 2)
+        h = math.cos(theta / 2)
+        cx, cy = (x0 + x1) / 2 + -dy / c * r * h, (y0 + y1) / 2 + dx / c * r * h
         steps = max(1, math.ceil(abs(theta) / (2 * math.acos(max(-1.0, 1 - sagitta / abs(r))))))
-        a0 = math.atan2(p0[1] - centre[1], p0[0] - centre[0])
-        a = a0 + theta * np.arange(1, steps) / steps
-        out.append(np.stack([centre[0] + abs(r) * np.cos(a), centre[1] + abs(r) * np.sin(a)], axis=1))
+        a = math.atan2(y0 - cy, x0 - cx) + theta * np.arange(1, steps) / steps
+        out += [np.array(run), np.stack([cx + abs(r) * np.cos(a), cy + abs(r) * np.sin(a)], axis=1)]
+        run = []
+    if run:
+        out.append(np.array(run))
     return np.concatenate(out)
 
 

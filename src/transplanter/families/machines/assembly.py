@@ -59,6 +59,7 @@ __all__ = [
     "AssemblyFiles",
     "machine_documents",
     "documents_and_assembly",
+    "step_made",
     "check_documents",
 ]
 
@@ -242,6 +243,7 @@ def documents_and_assembly(
     order: tuple[str, ...] | None = None,
     made: tuple[MadeBody, ...] = (),
     step: Beside | None = None,
+    later: bool = False,
 ) -> tuple[dict, dict[str, bytes], Bom, list[assembly_step.Placed]]:
     """The bill of materials, assembly STEP, assembly drawing and picture of the machine ``name``
     (module docstring) from its judged ``bodies`` (posed by ``links``, or ``at[link]`` at the
@@ -252,7 +254,9 @@ def documents_and_assembly(
     assembly's placed bodies they were made from (what the machine's mass properties are read
     from: :mod:`~transplanter.families.machines.loads`). ``step``: the process the STEP is written
     in (:attr:`AssemblyFiles.step`), handed its bodies and asked for the file once the drawing and
-    the picture are made (else it is written here, then)."""
+    the picture are made (else it is written here, then); with ``later`` it is not waited for here:
+    :func:`step_made` puts it into the record and the files when the caller has done its own work
+    beside it (the machine's loads)."""
     bought = [BoughtBody.like(b) for b in bought]
     records = made_records(files, own)
     bom = machine_bom(name, files, records, bought_parts(bought))
@@ -279,14 +283,20 @@ def documents_and_assembly(
         "balloons": len(shown),
         "order": list(order),
     }
-    data, written = step.result() if step is not None else assembly_step.write_checked(f"{name}.assembly", placed)
-    record["assembly_step"] = {
-        "file": f"{name}.assembly.step",
-        **written,
-        "made_volume_vs_record_rel": significant(fit),
-    }
-    out[f"{name}.assembly.step"] = data
+    record["assembly_step"] = {"file": f"{name}.assembly.step", "made_volume_vs_record_rel": significant(fit)}
+    if step is None:
+        step_made(None, name, record, out, placed)
+    elif not later:
+        step_made(step, name, record, out)
     return record, out, bom, placed
+
+
+def step_made(step: Beside | None, name: str, record: dict, files: dict[str, bytes], placed=None) -> None:
+    """The assembly STEP of :func:`documents_and_assembly`'s ``record`` put into it and into
+    ``files``: from ``step``'s process (waiting for it), or written here from ``placed``."""
+    data, written = step.result() if step is not None else assembly_step.write_checked(f"{name}.assembly", placed)
+    record["assembly_step"].update(written)
+    files[f"{name}.assembly.step"] = data
 
 
 def check_documents(

@@ -75,6 +75,7 @@ from transplanter.families.machines.assembly import (
     check_documents,
     documents_and_assembly,
     start_pose,
+    step_made,
 )
 from transplanter.families.machines.carrier_making import BOUGHT, CarrierPartsStudy
 from transplanter.families.machines.carrier_structure import CarrierStructure
@@ -225,7 +226,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         shown, bought, made = carrier_bodies.assembly_inputs(self, judged, shop)
         assembly.start_assembly(self.name, shown, judged["links"], {})
         documents, more, bom, placed = documents_and_assembly(
-            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made, step=assembly.step
+            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made, step=assembly.step, later=True
         )
         results.update(documents)
         files.update(more)
@@ -243,6 +244,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
             teeth=(shop, carrier_posing.body_specs(self)),
         )
         files.update(more)
+        step_made(assembly.step, self.name, results, files)  # the assembly STEP, written beside the loads
         cam = results["loads"]["cam"]
         if not cam["stays_on_the_cam"]:  # a finding: the machine as drawn has no force closure at the cam
             record.setdefault("findings", []).append(

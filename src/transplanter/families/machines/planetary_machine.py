@@ -64,6 +64,7 @@ from transplanter.families.machines.assembly import (
     check_documents,
     documents_and_assembly,
     start_pose,
+    step_made,
 )
 from transplanter.families.machines.bought import planetary_bought
 from transplanter.families.machines.judging import PHASES
@@ -206,7 +207,7 @@ class PlanetaryMachineStudy(StudyDefaults):
         bought = [*planetary_bought(planetary_parts.drawn(judged["bodies"], design), shop), *design.fitted]
         made_bodies = planetary_parts.made_bodies(design)
         documents, more, bom, placed = documents_and_assembly(
-            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies, step=assembly.step
+            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies, step=assembly.step, later=True
         )
         results.update(documents)
         files.update(more)
@@ -225,6 +226,7 @@ class PlanetaryMachineStudy(StudyDefaults):
             teeth=(used, names, module),
         )
         files.update(more)
+        step_made(assembly.step, self.name, results, files)  # the assembly STEP, written beside the loads
         short = shafts.finding(
             results["loads"]["keys_and_shafts"], f"the stated {self.structure.needle_force_n:g} N at each needle"
         )
