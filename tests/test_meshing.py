@@ -45,6 +45,16 @@ def _dense(pair, sizing, ring, planet, centre_deg, half_deg=0.6, n=241):
     return m
 
 
+@pytest.fixture(scope="module")
+def proof60(seed004_full_tips):
+    """The pair's proof at 60 steps as the library makes it, with scipy.signal unimportable (the
+    proof's scan of tip passes must not need it): the reference the next two tests hold a variant to."""
+    pair, sizing, ring, planet = seed004_full_tips
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setitem(sys.modules, "scipy.signal", None)  # an import of it fails
+        return meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+
+
 def test_every_gap_and_between_the_samples(seed004_full_tips):
     pair, sizing, ring, planet = seed004_full_tips
     windowed = meshing.mesh_check(pair, ring, planet, sizing.module, steps=180, teeth=72, window=3.0, refine=False)
@@ -75,7 +85,7 @@ def test_every_gap_and_between_the_samples(seed004_full_tips):
     )
 
 
-def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, monkeypatch):
+def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, proof60, monkeypatch):
     """Issue 46: the clearance's nearest samples are asked with a bound per step; every distance the
     proof can keep is the tree's own, so the proof's figures are the unbounded query's, bit for bit."""
     pair, sizing, ring, planet = seed004_full_tips
@@ -94,8 +104,7 @@ def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, 
     assert np.isinf(bounded).any()  # (the bound did spare the tree work)
     # and the proof itself, the same figures as with every point asked without a bound — and, its
     # scan of tip passes included, without importing scipy.signal (0.3 s of a pair call's CPU)
-    monkeypatch.setitem(sys.modules, "scipy.signal", None)  # an import of it fails
-    proof = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    proof = proof60
     monkeypatch.setattr(contact.EdgeIndex, "_nearest_samples", lambda self, p, g, n: self._tree.query(p)[0])
     reference = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
     assert proof.summary() == reference.summary()
@@ -103,7 +112,7 @@ def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, 
     assert np.array_equal(proof.clearance_points, reference.clearance_points)
 
 
-def test_a_large_pair_is_meshed_a_few_steps_at_a_time_with_the_same_figures(seed004_full_tips, monkeypatch):
+def test_a_large_pair_is_meshed_a_few_steps_at_a_time_with_the_same_figures(seed004_full_tips, proof60, monkeypatch):
     """Issue 46: the steps computed together shrink as the outlines grow (the vertex/edge pairs of a
     chunk are held at once: seed 004's 560-tooth ring took ~560 MB at 64 steps), and every figure is
     each step's own, so the proof is the same, bit for bit, for any chunk."""
@@ -111,7 +120,7 @@ def test_a_large_pair_is_meshed_a_few_steps_at_a_time_with_the_same_figures(seed
     sweep = _dense(pair, sizing, ring, planet, 0.0, n=9)
     vertices = len(sweep.drv.xy) + len(sweep.drn.xy)
     assert sweep.chunk == min(mesh_engine.MESH_CHUNK, mesh_engine.MESH_CHUNK * mesh_engine.CHUNK_VERTICES // vertices)
-    proof = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    proof = proof60
     monkeypatch.setattr(mesh_engine, "CHUNK_VERTICES", vertices // 8)  # the smallest chunk, 8 steps
     assert _dense(pair, sizing, ring, planet, 0.0, n=9).chunk == 8
     small = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)

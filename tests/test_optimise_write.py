@@ -401,15 +401,15 @@ def peer(send: bytes | None):
 
 
 def test_a_scheduler_that_accepts_and_never_answers_fails_within_the_timeout(tmp_path, capsys, monkeypatch):
-    assert design_cluster.SCHEDULER_TIMEOUT_S == 10.0  # the stated bound; tried here at 2 s
-    monkeypatch.setattr(design_cluster, "SCHEDULER_TIMEOUT_S", 2.0)
+    assert design_cluster.SCHEDULER_TIMEOUT_S == 10.0  # the stated bound; tried here at 1 s
+    monkeypatch.setattr(design_cluster, "SCHEDULER_TIMEOUT_S", 1.0)
     path, _ = _bowl(tmp_path)
     with peer(None) as address:
         start = time.monotonic()
         code, out, err = run(capsys, "optimise", path, *SEARCH, "--scheduler", address)
         took = time.monotonic() - start
-    assert code == 2 and f"scheduler = '{address}': no Dask scheduler answered within 2 s" in err, err
-    assert took < 2.0 + 4.0, took  # the timeout, and a load of the script and of dask
+    assert code == 2 and f"scheduler = '{address}': no Dask scheduler answered within 1 s" in err, err
+    assert took < 1.0 + 4.0, took  # the timeout, and a load of the script and of dask
 
 
 @pytest.mark.parametrize(
@@ -426,12 +426,12 @@ def test_a_scheduler_that_accepts_and_never_answers_fails_within_the_timeout(tmp
     ids=["0xff", "a 3 EiB frame", "HTTP", "SSH", "zeros", "a short frame", "silence"],
 )
 def test_a_scheduler_that_answers_garbage_is_refused_clearly(tmp_path, capsys, monkeypatch, reply):
-    monkeypatch.setattr(design_cluster, "SCHEDULER_TIMEOUT_S", 2.0)
+    monkeypatch.setattr(design_cluster, "SCHEDULER_TIMEOUT_S", 1.0)
     path, _ = _bowl(tmp_path)
     with peer(reply) as address:
         code, out, err = run(capsys, "optimise", path, *SEARCH, "--scheduler", address)
     assert code == 2 and f"scheduler = '{address}': " in err, err
-    assert "not a Dask scheduler" in err or "no Dask scheduler answered within 2 s" in err, err
+    assert "not a Dask scheduler" in err or "no Dask scheduler answered within 1 s" in err, err
     assert "EiB" not in err and "allocate" not in err and len(err.strip().splitlines()) == 1, err
 
 
