@@ -18,7 +18,7 @@ from transplanter.core.errors import GeometryError, SpecError
 from transplanter.families.machines.carrier_machine import GEARBOX_ABOVE_SOIL_MM, CarrierLayers
 from transplanter.geometry.pitch import GearPair, Mesh, PitchCurve
 from transplanter.machine.bodies import MOTION_POSITIONS
-from transplanter.machine.carriers import CarrierLayout, DoubleCarrierMachine, MadeMesh, pair_pose
+from transplanter.machine.carriers import POSES_KEPT, CarrierLayout, DoubleCarrierMachine, MadeMesh, pair_pose
 
 
 def _machine(built):
@@ -210,6 +210,10 @@ def test_the_gear_and_cam_routes_reproduce_the_chain(seed002):
     for _ in range(2):
         assert m.poses(t) is poses and m.poses(t[::7]).keys() == fresh.keys()
     assert all(np.array_equal(a, b) for k in fresh for a, b in zip(m.poses(t[::7])[k], fresh[k], strict=True))
+    for k in range(6):  # at most POSES_KEPT kept, the oldest dropped, each answer read-only
+        m.poses(t[k::11])
+    assert len(m._memo["poses"]) == POSES_KEPT and m.poses(t) is not poses
+    assert not m.poses(t)["arm"][0].flags.writeable
     rel = np.unwrap(poses["arm"][2] - poses["carrier1"][2])
     assert rel[-1] - rel[0] == pytest.approx(2 * math.pi, abs=1e-6)
     # the shafts keep their distances on carrier 1 and 2

@@ -269,8 +269,8 @@ class DoubleCarrierMachine:
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         # each body's link asks for the same positions in turn (a clearance pair, the motion
         # table; the loads ask each link at its five-point stencil, then at the positions): the
-        # last few answers are kept
-        key = theta.tobytes()
+        # last few answers are kept, read-only (one answer's arrays are shared by its links)
+        key = (theta.shape, theta.tobytes())
         kept = self._memo.setdefault("poses", {})
         if key in kept:
             return kept[key]
@@ -308,6 +308,9 @@ class DoubleCarrierMachine:
             "gear11": (qx, qy, c2 + a["gear11"]),
             "arm": (qx, qy, c2 + a["gear11"] + self.arm_offset),
         }
+        for pose in out.values():
+            for v in pose:
+                v.flags.writeable = False
         if len(kept) >= POSES_KEPT:
             del kept[next(iter(kept))]  # the oldest
         kept[key] = out

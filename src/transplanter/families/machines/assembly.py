@@ -294,6 +294,8 @@ def documents_and_assembly(
 def step_made(step: Beside | None, name: str, record: dict, files: dict[str, bytes], placed=None) -> None:
     """The assembly STEP of :func:`documents_and_assembly`'s ``record`` put into it and into
     ``files``: from ``step``'s process (waiting for it), or written here from ``placed``."""
+    if step is None and placed is None:
+        raise ValueError("step_made: no process to ask for the assembly STEP and no bodies to write it from")
     data, written = step.result() if step is not None else assembly_step.write_checked(f"{name}.assembly", placed)
     record["assembly_step"].update(written)
     files[f"{name}.assembly.step"] = data
