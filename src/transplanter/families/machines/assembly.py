@@ -243,7 +243,6 @@ def documents_and_assembly(
     order: tuple[str, ...] | None = None,
     made: tuple[MadeBody, ...] = (),
     step: Beside | None = None,
-    later: bool = False,
 ) -> tuple[dict, dict[str, bytes], Bom, list[assembly_step.Placed]]:
     """The bill of materials, assembly STEP, assembly drawing and picture of the machine ``name``
     (module docstring) from its judged ``bodies`` (posed by ``links``, or ``at[link]`` at the
@@ -253,10 +252,9 @@ def documents_and_assembly(
     ``assembly_step``, ``assembly_drawing``), the files, and the bill of materials and the
     assembly's placed bodies they were made from (what the machine's mass properties are read
     from: :mod:`~transplanter.families.machines.loads`). ``step``: the process the STEP is written
-    in (:attr:`AssemblyFiles.step`), handed its bodies and asked for the file once the drawing and
-    the picture are made (else it is written here, then); with ``later`` it is not waited for here:
-    :func:`step_made` puts it into the record and the files when the caller has done its own work
-    beside it (the machine's loads)."""
+    in (:attr:`AssemblyFiles.step`), handed its bodies here and asked for the file by the caller —
+    :func:`step_made` puts it into the record and the files once the caller's own work beside it is
+    done (the machine's loads) — else it is written here, once the drawing and the picture are made."""
     bought = [BoughtBody.like(b) for b in bought]
     records = made_records(files, own)
     bom = machine_bom(name, files, records, bought_parts(bought))
@@ -286,8 +284,6 @@ def documents_and_assembly(
     record["assembly_step"] = {"file": f"{name}.assembly.step", "made_volume_vs_record_rel": significant(fit)}
     if step is None:
         step_made(None, name, record, out, placed)
-    elif not later:
-        step_made(step, name, record, out)
     return record, out, bom, placed
 
 

@@ -226,7 +226,7 @@ class DoubleCarrierMachineStudy(StudyDefaults):
         shown, bought, made = carrier_bodies.assembly_inputs(self, judged, shop)
         assembly.start_assembly(self.name, shown, judged["links"], {})
         documents, more, bom, placed = documents_and_assembly(
-            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made, step=assembly.step, later=True
+            self.name, judged["bodies"], judged["links"], {}, shop, bought, made=made, step=assembly.step
         )
         results.update(documents)
         files.update(more)

@@ -207,7 +207,7 @@ class PlanetaryMachineStudy(StudyDefaults):
         bought = [*planetary_bought(planetary_parts.drawn(judged["bodies"], design), shop), *design.fitted]
         made_bodies = planetary_parts.made_bodies(design)
         documents, more, bom, placed = documents_and_assembly(
-            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies, step=assembly.step, later=True
+            self.name, judged["bodies"], links, at, shop, bought, own, made=made_bodies, step=assembly.step
         )
         results.update(documents)
         files.update(more)
