@@ -659,3 +659,20 @@ def test_a_kept_file_changed_while_the_build_runs_is_not_taken(tmp_path, monkeyp
     assert code == 0 and build["unverified"] == {"b": why} and f"rebuilt plates/b: {why}" in out
     assert (tmp_path / "out" / "plates" / "b.txt").read_text() == "16.000000\n"
     assert_consistent(tmp_path / "out" / "plates")
+
+
+def test_a_parts_key_follows_every_package_of_the_code():
+    """The key's code digest covers every module of transplanter — the proofs, the shop's writers,
+    the geometry — not only the builder's own package: a change to how a DXF is written or a pair
+    is proved rebuilds the parts (it hashed ``families/`` alone from the move into packages, issue
+    41, to issue 46's twelfth pass)."""
+    import transplanter
+    from transplanter.families.builder.manifest import package_digest
+
+    root = Path(transplanter.__file__).resolve().parent
+    modules = sorted(root.rglob("*.py"))
+    assert {p.relative_to(root).parts[0] for p in modules} >= {"shop", "proof", "geometry", "families", "core"}
+    h = hashlib.sha256()
+    for path in modules:
+        h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    assert package_digest() == h.hexdigest()

@@ -359,7 +359,7 @@ def within(v: np.ndarray, vi: np.ndarray, p: np.ndarray, ei: np.ndarray, turn, e
     """The pairs (``vi``, ``ei``) whose vertex ``v[vi]``, turned about the origin by at most
     ``turn`` (per pair), can come within ``extra`` of the point ``p[ei]``."""
     d = v[vi] - p[ei]
-    rho = np.hypot(v[vi, 0], v[vi, 1])
+    rho = np.hypot(v[:, 0], v[:, 1])[vi]  # each vertex's radius once, then gathered (the same bits)
     keep = _dot(d, d) <= (turn * rho + extra) ** 2
     return vi[keep], ei[keep]
 

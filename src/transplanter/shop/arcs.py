@@ -35,7 +35,7 @@ from transplanter.core.errors import SpecError
 from transplanter.core.tolerances import DXF_ARC_TOLERANCE_MM, DXF_INSET_MM
 from transplanter.shop.machining import inset_ring
 
-__all__ = ["bulge_area", "bulge_points", "fit_arcs", "section_arcs"]
+__all__ = ["bulge_area", "bulge_points", "fit_arcs", "section_arcs", "with_arcs"]
 
 
 def _arc_dev(p0, t0, p1, pts):
@@ -179,12 +179,10 @@ def bulge_points(verts: np.ndarray, sagitta: float = 1e-3) -> np.ndarray:
     """Closed bulge vertices ``(n, 3)`` flattened to points ``(m, 2)`` (the first not repeated),
     each arc sampled so that no chord leaves it by more than ``sagitta`` mm. An arc's centre and
     start are found in Python floats (the same operations numpy did on each vertex, in the same
-    order: the same bits, without numpy's cost per vertex), its points with numpy."""
+    order: the same bits, without numpy's cost per vertex), its points by :func:`with_arcs`."""
     rows = np.asarray(verts, dtype=float).tolist()
-    out: list[np.ndarray] = []
-    run: list[tuple[float, float]] = []  # the vertices since the last arc
+    arcs = []
     for k, (x0, y0, b) in enumerate(rows):
-        run.append((x0, y0))
         if b == 0.0:
             continue
         x1, y1 = rows[(k + 1) % len(rows)][:2]
@@ -195,12 +193,32 @@ def bulge_points(verts: np.ndarray, sagitta: float = 1e-3) -> np.ndarray:
         h = math.cos(theta / 2)
         cx, cy = (x0 + x1) / 2 + -dy / c * r * h, (y0 + y1) / 2 + dx / c * r * h
         steps = max(1, math.ceil(abs(theta) / (2 * math.acos(max(-1.0, 1 - sagitta / abs(r))))))
-        a = math.atan2(y0 - cy, x0 - cx) + theta * np.arange(1, steps) / steps
-        out += [np.array(run), np.stack([cx + abs(r) * np.cos(a), cy + abs(r) * np.sin(a)], axis=1)]
-        run = []
-    if run:
-        out.append(np.array(run))
-    return np.concatenate(out)
+        arcs.append((k, cx, cy, abs(r), math.atan2(y0 - cy, x0 - cx), theta, steps, False))
+    return with_arcs(np.asarray(verts, dtype=float)[:, :2], arcs)
+
+
+def with_arcs(xy: np.ndarray, arcs: list[tuple]) -> np.ndarray:
+    """The points ``xy`` (n, 2) of a closed polyline, each vertex followed by the inner points of
+    the arc that starts there: ``arcs`` rows ``(vertex, cx, cy, r, a0, sweep, steps, reversed)``, the
+    arc's points at ``a0 + sweep × i / steps`` for i = 1 … steps − 1 about the centre (cx, cy) at
+    radius r (in the reverse order where ``reversed``) — every arc at once, each point computed
+    with the operations a loop over the arcs would do, in the same order (the same bits)."""
+    count = np.ones(len(xy), dtype=np.intp)
+    if arcs:
+        k, cx, cy, r, a0, sweep, steps, rev = (np.array(column) for column in zip(*arcs, strict=True))
+        count[k] += steps - 1
+    first = np.cumsum(count) - count
+    out = np.empty((int(count.sum()), 2))
+    out[first] = xy
+    if arcs:
+        inner = steps - 1
+        arc = np.repeat(np.arange(len(arcs)), inner)
+        j = np.arange(int(inner.sum())) - np.repeat(np.cumsum(inner) - inner, inner)  # 0 … inner - 1
+        ang = a0[arc] + sweep[arc] * (j + 1) / steps[arc]
+        at = first[k][arc] + 1 + np.where(rev[arc], inner[arc] - 1 - j, j)
+        out[at, 0] = cx[arc] + r[arc] * np.cos(ang)
+        out[at, 1] = cy[arc] + r[arc] * np.sin(ang)
+    return out
 
 
 def _rings(section: shapely.Polygon):

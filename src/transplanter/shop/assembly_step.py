@@ -357,12 +357,16 @@ def _number_occurrences(model) -> None:
     order instead (identical bytes on every rebuild)."""
     from OCP.StepRepr import StepRepr_NextAssemblyUsageOccurrence as Occurrence
 
+    # the occurrences picked out by OpenCASCADE in the model's order (a Python loop over seed 002's
+    # 465 000 entities took 3.9 s)
+    found = model.Entities()
+    found.SelectType(Occurrence.get_type_descriptor_s(), True)
     count = 0
-    for k in range(1, model.NbEntities() + 1):
-        entity = model.Value(k)
-        if isinstance(entity, Occurrence):
-            count += 1
-            entity.SetId(step._occ().HString(str(count)))
+    found.Start()
+    while found.More():
+        count += 1
+        found.Value().SetId(step._occ().HString(str(count)))
+        found.Next()
 
 
 def mass_properties(occ, shape) -> tuple[float, np.ndarray]:

@@ -58,7 +58,7 @@ from ezdxf.math import bulge_to_arc
 from transplanter.core.errors import MAX_MAGNITUDE, ExportError, GeometryError, SpecError, check_number
 from transplanter.core.tolerances import DXF_ARC_TOLERANCE_MM, MIN_CONTOUR_AREA
 from transplanter.geometry.contact import distance_to_ring
-from transplanter.shop.arcs import bulge_area, section_arcs
+from transplanter.shop.arcs import bulge_area, section_arcs, with_arcs
 from transplanter.shop.machining import wire_path
 
 __all__ = [
@@ -291,22 +291,19 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_
 
 
 def _bulge_points(verts, flatten: float) -> np.ndarray:
-    """Points of a closed bulge polyline, each arc from ezdxf.math.bulge_to_arc sampled exactly."""
-    out = []
-    n = len(verts)
-    for k in range(n):
-        x0, y0, b = verts[k]
-        x1, y1, _ = verts[(k + 1) % n]
-        out.append((x0, y0))
+    """Points of a closed bulge polyline, each arc from ezdxf.math.bulge_to_arc sampled exactly
+    (every arc's points at once: :func:`~transplanter.shop.arcs.with_arcs`)."""
+    rows = np.asarray(verts, dtype=float).tolist()
+    arcs = []
+    for k, (x0, y0, b) in enumerate(rows):
         if b == 0:
             continue
+        x1, y1, _ = rows[(k + 1) % len(rows)]
         centre, a0, a1, r = bulge_to_arc((x0, y0), (x1, y1), b)
         sweep = (a1 - a0) % (2 * math.pi)
         steps = max(1, int(math.ceil(sweep / (2 * math.acos(max(-1.0, 1 - flatten / r))))))
-        ang = a0 + sweep * np.arange(1, steps) / steps
-        pts = np.stack([centre.x + r * np.cos(ang), centre.y + r * np.sin(ang)], axis=1)
-        out.extend(pts[::-1] if b < 0 else pts)
-    return np.array(out)
+        arcs.append((k, centre.x, centre.y, r, a0, sweep, steps, b < 0))  # a clockwise arc walked back
+    return with_arcs(np.asarray(verts, dtype=float)[:, :2], arcs)
 
 
 def _outline_polylines(data: bytes, layer: str | None = None) -> list[np.ndarray]:

@@ -50,8 +50,6 @@ from transplanter.shop.step_writing import fixed_header, model_bytes, write_sett
 __all__ = ["arcs_area", "prism", "step_bytes", "read_step", "SolidReport", "solid_report"]
 
 
-
-
 def arcs_area(contours: list[tuple[np.ndarray, bool]]) -> float:
     """Exact area (mm²) of a section given as closed bulge contours ``[(verts (n, 3), is_hole)]``
     (``arcs.bulge_area`` of each, the holes subtracted)."""
@@ -299,15 +297,19 @@ def _sectors(occ, contours, width: float):
             return None
         builder.Add(shell, face.Face())
     made = occ.BRepPrimAPI_MakePrism(shell, occ.gp_Vec(0.0, 0.0, float(width)))
-    walls = [f for e in cut_e for f in made.Generated(e)]
+    walls: dict[int, list] = {}  # by hash (OCP's: the shape and its place, as IsSame), then IsSame
+    for e in cut_e:
+        for f in made.Generated(e):
+            walls.setdefault(hash(f), []).append(f)
     solid_shell = occ.TopoDS_Shell()
     builder.MakeShell(solid_shell)
     cells = occ.TopExp_Explorer(made.Shape(), occ.TopAbs_ShapeEnum.TopAbs_SOLID)
     while cells.More():
         faces = occ.TopExp_Explorer(cells.Current(), occ.TopAbs_ShapeEnum.TopAbs_FACE)
         while faces.More():
-            if not any(faces.Current().IsSame(w) for w in walls):
-                builder.Add(solid_shell, faces.Current())
+            face = faces.Current()
+            if not any(face.IsSame(w) for w in walls.get(hash(face), ())):
+                builder.Add(solid_shell, face)
             faces.Next()
         cells.Next()
     solid = occ.TopoDS_Solid()

@@ -274,7 +274,9 @@ BUILD_RECORD = ".{name}.build.json"
 @functools.cache
 def package_digest() -> str:
     """SHA-256 of the package's own code (every ``.py`` file under ``transplanter/``, by path)."""
-    root = Path(__file__).resolve().parents[1]
+    import transplanter
+
+    root = Path(transplanter.__file__).resolve().parent  # (this module is two packages down: families/builder)
     h = hashlib.sha256()
     for path in sorted(root.rglob("*.py")):
         h.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
