@@ -358,9 +358,15 @@ def pairs(v: np.ndarray, v_key: np.ndarray, ps: np.ndarray, pe: np.ndarray, e_ke
 def within(v: np.ndarray, vi: np.ndarray, p: np.ndarray, ei: np.ndarray, turn, extra: float):
     """The pairs (``vi``, ``ei``) whose vertex ``v[vi]``, turned about the origin by at most
     ``turn`` (per pair), can come within ``extra`` of the point ``p[ei]``."""
-    d = v[vi] - p[ei]
-    rho = np.hypot(v[:, 0], v[:, 1])[vi]  # each vertex's radius once, then gathered (the same bits)
-    keep = _dot(d, d) <= (turn * rho + extra) ** 2
+    # |v - p|² <= (turn ρ + extra)², each vertex's radius ρ once, in place: the same bits
+    d = v[vi]
+    d -= p[ei]
+    d *= d
+    reach = np.hypot(v[:, 0], v[:, 1])[vi]
+    reach *= turn
+    reach += extra
+    reach *= reach
+    keep = d[:, 0] + d[:, 1] <= reach
     return vi[keep], ei[keep]
 
 

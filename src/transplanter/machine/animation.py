@@ -93,8 +93,11 @@ def gif_bytes(bodies, poses: dict, tips: list[np.ndarray], frames: int = GIF_FRA
 
     scale, x0, y0 = _view(bodies, poses)
 
-    def px(xy: np.ndarray) -> list[tuple[float, float]]:
-        return [((x - x0) * scale, (y0 - y) * scale) for x, y in xy]
+    def px(xy: np.ndarray) -> list[float]:
+        """Pixel coordinates x, y, x, y, … of the points ``xy`` (mm; the arithmetic of a loop over
+        the points, in numpy: the same values)."""
+        xy = np.asarray(xy, dtype=float)
+        return np.column_stack(((xy[:, 0] - x0) * scale, (y0 - xy[:, 1]) * scale)).ravel().tolist()
 
     shapes = {b.name: _rings(b.section.simplify(OUTLINE_MM * 4)) for b in bodies}
     # one palette for every frame, drawn in its indices (no per-frame colour quantising)
