@@ -8,12 +8,14 @@ import lib3mf
 from transplanter.shop import threemf
 
 
-def _strict(data: bytes) -> list[str]:
-    """The part numbers of the build items, read in strict mode; raises on a non-conforming file."""
+def _strict(path) -> list[str]:
+    """The part numbers of the build items, read in strict mode; raises on a non-conforming file.
+    (From the file: lib3mf's buffer call hands it every byte as an argument of its own, twice the
+    time of the whole read.)"""
     model = lib3mf.get_wrapper().CreateModel()
     reader = model.QueryReader("3mf")
     reader.SetStrictModeActive(True)
-    reader.ReadFromBuffer(bytearray(data))
+    reader.ReadFromFile(str(path))
     assert reader.GetWarningCount() == 0, [reader.GetWarning(i) for i in range(reader.GetWarningCount())]
     items, names = model.GetBuildItems(), []
     while items.MoveNext():
@@ -27,5 +29,4 @@ def test_every_shipped_3mf_is_strict_valid(built):
     files = sorted(built.rglob("*.3mf"))
     assert len(files) >= 9
     for path in files:
-        data = path.read_bytes()
-        assert sorted(_strict(data)) == sorted(threemf.read_assembly(data)), path.name
+        assert sorted(_strict(path)) == sorted(threemf.read_assembly(path.read_bytes())), path.name
