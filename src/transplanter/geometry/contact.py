@@ -66,7 +66,14 @@ def rotate(p: np.ndarray, angle, at: np.ndarray | None = None) -> np.ndarray:
     c, s = np.cos(angle), np.sin(angle)
     if at is not None:
         c, s = c[at], s[at]
-    return np.column_stack((c * p[:, 0] - s * p[:, 1], s * p[:, 0] + c * p[:, 1]))
+    x, y = p[:, 0], p[:, 1]
+    out = np.empty((len(p), 2))
+    a, b = out[:, 0], out[:, 1]  # c x - s y and s x + c y, written in place (the same bits)
+    np.multiply(c, x, out=a)
+    a -= s * y
+    np.multiply(s, x, out=b)
+    b += c * y
+    return out
 
 
 def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
