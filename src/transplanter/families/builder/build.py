@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Callable
-from contextlib import ExitStack
+from contextlib import ExitStack, nullcontext
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -386,7 +386,8 @@ def build_families(
         workers.FAMILIES.clear()
         workers.FAMILIES.update((f.name, f) for f in families)
         try:
-            with workers.Forks(jobs) as pool:
+            # (no fork server where every part is kept: its imports are a second of a rebuild's CPU)
+            with workers.Forks(jobs) if tasks else nullcontext() as pool:
                 pending: dict = {}
 
                 def hand_out() -> None:  # every task whose used parts are done, longest first
