@@ -75,6 +75,44 @@ def test_bulge_points_are_the_per_vertex_formula_to_the_bit_and_within_the_sagit
     assert dxf.contour_deviation(dxf.arcs_to_points(verts, 1e-6), arcs.bulge_points(verts, 1e-4)) < 1.01e-4
 
 
+def _dxf_points_per_arc(verts, flatten):
+    """dxf.read_contours' points as they were written first: numpy per arc, each a clockwise
+    arc's points walked back (the reference ``dxf._bulge_points`` keeps to the bit)."""
+    from ezdxf.math import bulge_to_arc
+
+    out = []
+    for k in range(len(verts)):
+        x0, y0, b = verts[k]
+        x1, y1, _ = verts[(k + 1) % len(verts)]
+        out.append((x0, y0))
+        if b == 0:
+            continue
+        centre, a0, a1, r = bulge_to_arc((x0, y0), (x1, y1), b)
+        sweep = (a1 - a0) % (2 * math.pi)
+        steps = max(1, int(math.ceil(sweep / (2 * math.acos(max(-1.0, 1 - flatten / r))))))
+        ang = a0 + sweep * np.arange(1, steps) / steps
+        pts = np.stack([centre.x + r * np.cos(ang), centre.y + r * np.sin(ang)], axis=1)
+        out.extend(pts[::-1] if b < 0 else pts)
+    return np.array(out)
+
+
+def test_a_dxfs_arcs_are_read_as_the_per_arc_formula_to_the_bit():
+    """Every arc of a contour sampled at once (``arcs.with_arcs``) gives the points a loop over the
+    arcs gave, to the bit — clockwise arcs (negative bulges) walked back, lines, half circles — and a
+    bulge on a segment of no length (a damaged drawing) is no arc, not a division by zero."""
+    rng = np.random.default_rng(11)
+    t = np.linspace(0, 2 * np.pi, 3000, endpoint=False)
+    fitted = arcs.fit_arcs(np.stack([30 * np.cos(t), 22 * np.sin(t)], axis=1), tolerance=1e-3)
+    bulges = np.where(rng.random(80) < 0.3, 0.0, rng.uniform(-1, 1, 80))
+    mixed = np.column_stack((rng.uniform(-50, 50, (80, 2)), bulges))
+    for verts in (fitted, fitted * [1, 1, -1], mixed):
+        for flatten in (1e-5, 5e-5, 1e-3):
+            got, want = dxf._bulge_points(verts, flatten), _dxf_points_per_arc(verts, flatten)
+            assert got.shape == want.shape and got.tobytes() == want.tobytes()
+    flat = np.array([[0.0, 0.0, 0.5], [0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [10.0, 10.0, 0.0]])
+    assert dxf._bulge_points(flat, 1e-5).tolist() == flat[:, :2].tolist()
+
+
 @pytest.mark.parametrize("version", ["R2000", "R12"])
 def test_gear_dxf_reads_back_within_1um(ellipse_gears, version):
     gear = ellipse_gears[0]

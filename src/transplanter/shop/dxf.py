@@ -300,6 +300,8 @@ def _bulge_points(verts, flatten: float) -> np.ndarray:
             continue
         x1, y1, _ = rows[(k + 1) % len(rows)]
         centre, a0, a1, r = bulge_to_arc((x0, y0), (x1, y1), b)
+        if r == 0.0:  # a bulge on a segment of no length: no arc, nothing between its ends
+            continue
         sweep = (a1 - a0) % (2 * math.pi)
         steps = max(1, int(math.ceil(sweep / (2 * math.acos(max(-1.0, 1 - flatten / r))))))
         arcs.append((k, centre.x, centre.y, r, a0, sweep, steps, b < 0))  # a clockwise arc walked back
