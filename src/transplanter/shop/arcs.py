@@ -180,7 +180,8 @@ def bulge_points(verts: np.ndarray, sagitta: float = 1e-3) -> np.ndarray:
     each arc sampled so that no chord leaves it by more than ``sagitta`` mm. An arc's centre and
     start are found in Python floats (the same operations numpy did on each vertex, in the same
     order: the same bits, without numpy's cost per vertex), its points by :func:`with_arcs`."""
-    rows = np.asarray(verts, dtype=float).tolist()
+    v = np.asarray(verts, dtype=float)
+    rows = v.tolist()
     arcs = []
     for k, (x0, y0, b) in enumerate(rows):
         if b == 0.0:
@@ -194,7 +195,7 @@ def bulge_points(verts: np.ndarray, sagitta: float = 1e-3) -> np.ndarray:
         cx, cy = (x0 + x1) / 2 + -dy / c * r * h, (y0 + y1) / 2 + dx / c * r * h
         steps = max(1, math.ceil(abs(theta) / (2 * math.acos(max(-1.0, 1 - sagitta / abs(r))))))
         arcs.append((k, cx, cy, abs(r), math.atan2(y0 - cy, x0 - cx), theta, steps, False))
-    return with_arcs(np.asarray(verts, dtype=float)[:, :2], arcs)
+    return with_arcs(v[:, :2], arcs)
 
 
 def with_arcs(xy: np.ndarray, arcs: list[tuple]) -> np.ndarray:
@@ -203,21 +204,21 @@ def with_arcs(xy: np.ndarray, arcs: list[tuple]) -> np.ndarray:
     arc's points at ``a0 + sweep × i / steps`` for i = 1 … steps − 1 about the centre (cx, cy) at
     radius r (in the reverse order where ``reversed``) — every arc at once, each point computed
     with the operations a loop over the arcs would do, in the same order (the same bits)."""
+    if not arcs:
+        return np.array(xy, dtype=float)
+    k, cx, cy, r, a0, sweep, steps, rev = (np.array(column) for column in zip(*arcs, strict=True))
+    inner = steps - 1
     count = np.ones(len(xy), dtype=np.intp)
-    if arcs:
-        k, cx, cy, r, a0, sweep, steps, rev = (np.array(column) for column in zip(*arcs, strict=True))
-        count[k] += steps - 1
+    count[k] += inner
     first = np.cumsum(count) - count
     out = np.empty((int(count.sum()), 2))
     out[first] = xy
-    if arcs:
-        inner = steps - 1
-        arc = np.repeat(np.arange(len(arcs)), inner)
-        j = np.arange(int(inner.sum())) - np.repeat(np.cumsum(inner) - inner, inner)  # 0 … inner - 1
-        ang = a0[arc] + sweep[arc] * (j + 1) / steps[arc]
-        at = first[k][arc] + 1 + np.where(rev[arc], inner[arc] - 1 - j, j)
-        out[at, 0] = cx[arc] + r[arc] * np.cos(ang)
-        out[at, 1] = cy[arc] + r[arc] * np.sin(ang)
+    arc = np.repeat(np.arange(len(arcs)), inner)
+    j = np.arange(int(inner.sum())) - np.repeat(np.cumsum(inner) - inner, inner)  # 0 … inner - 1
+    ang = a0[arc] + sweep[arc] * (j + 1) / steps[arc]
+    at = first[k][arc] + 1 + np.where(rev[arc], inner[arc] - 1 - j, j)
+    out[at, 0] = cx[arc] + r[arc] * np.cos(ang)
+    out[at, 1] = cy[arc] + r[arc] * np.sin(ang)
     return out
 
 

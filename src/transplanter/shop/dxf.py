@@ -293,7 +293,8 @@ def dxf_bytes(part: DxfPart, version: str = "R2000", tolerance: float = DXF_ARC_
 def _bulge_points(verts, flatten: float) -> np.ndarray:
     """Points of a closed bulge polyline, each arc from ezdxf.math.bulge_to_arc sampled exactly
     (every arc's points at once: :func:`~transplanter.shop.arcs.with_arcs`)."""
-    rows = np.asarray(verts, dtype=float).tolist()
+    v = np.asarray(verts, dtype=float)
+    rows = v.tolist()
     arcs = []
     for k, (x0, y0, b) in enumerate(rows):
         if b == 0:
@@ -305,7 +306,7 @@ def _bulge_points(verts, flatten: float) -> np.ndarray:
         sweep = (a1 - a0) % (2 * math.pi)
         steps = max(1, int(math.ceil(sweep / (2 * math.acos(max(-1.0, 1 - flatten / r))))))
         arcs.append((k, centre.x, centre.y, r, a0, sweep, steps, b < 0))  # a clockwise arc walked back
-    return with_arcs(np.asarray(verts, dtype=float)[:, :2], arcs)
+    return with_arcs(v[:, :2], arcs)
 
 
 def _outline_polylines(data: bytes, layer: str | None = None) -> list[np.ndarray]:
