@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import time
 from collections.abc import Callable
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -65,16 +66,22 @@ def _reach(address: str, timeout: float) -> None:
         except BaseException as exc:  # a peer's bytes can fail the reader in any way; said below
             answer.put((False, exc))
 
+    start = time.monotonic()
     threading.Thread(target=probe, name="transplanter-scheduler-probe", daemon=True).start()
     try:
         ok, reply = answer.get(timeout=timeout + 1.0)
     except queue.Empty:  # stuck outside the loop (a name lookup): left behind, a daemon thread
         ok, reply = False, TimeoutError()
     if not ok:
-        if isinstance(reply, TimeoutError | asyncio.TimeoutError):
-            why = f"no Dask scheduler answered within {timeout:g} s"
-        elif isinstance(reply, KeyboardInterrupt):
+        if isinstance(reply, KeyboardInterrupt):
             raise reply
+        # what failed once the time was up failed for the time: a reader cancelled in the middle of
+        # its wait may raise anything (seen under a sampling profiler: a silent peer was said to send
+        # garbage), while a peer's own bytes fail it at once
+        if isinstance(reply, TimeoutError | asyncio.TimeoutError | asyncio.CancelledError) or (
+            time.monotonic() - start >= timeout
+        ):
+            why = f"no Dask scheduler answered within {timeout:g} s"
         elif isinstance(reply, OSError):  # refused, reset, closed, no such host
             why = f"cannot reach it ({type(reply).__name__}: {reply})"
         else:  # its bytes, not ours: the reader's own words (a frame of 3 EiB to allocate) say nothing useful
