@@ -499,7 +499,29 @@ def test_every_page_problem_still_ships_to_a_search_worker(script):
     assert len(cloudpickle.dumps(problem)) < 200_000
 
 
-def test_the_slow_judgement_runs_apart_and_is_dropped_when_its_design_goes():
+def _children(monkeypatch) -> list:
+    """The judging children :mod:`~transplanter.app.studio.later` starts, as it starts them."""
+    from transplanter.app.studio import later
+
+    started: list = []
+    waited = later._waited
+
+    def watched(child, receive, done):
+        started.append(child)
+        return waited(child, receive, done)
+
+    monkeypatch.setattr(later, "_waited", watched)
+    return started
+
+
+def _ended(child) -> bool:
+    """Whether ``child`` has ended within 10 s (its sentinel readable; the waiting thread reaps it)."""
+    from multiprocessing.connection import wait
+
+    return bool(wait([child.sentinel], timeout=10.0))
+
+
+def test_the_slow_judgement_runs_apart_and_is_dropped_when_its_design_goes(monkeypatch):
     import threading
 
     from transplanter.app.studio.later import judge_later
@@ -522,9 +544,10 @@ def test_the_slow_judgement_runs_apart_and_is_dropped_when_its_design_goes():
         judge_later(bad, said)
         assert done.wait(60) and got[-1][0] == want
     done.clear()
+    children = _children(monkeypatch)
     cancel = judge_later(lambda: time.sleep(30) or (), said)
-    cancel()  # its design replaced: the child is killed, nothing is said
-    assert not done.wait(2)
+    cancel()  # its design replaced: the child is killed (not 30 s later), nothing is said
+    assert _ended(children[-1]) and not done.wait(0.2)
 
 
 SLOW_SCRIPT = '''
@@ -551,7 +574,7 @@ def problem():
 '''
 
 
-def test_a_script_s_slow_judgement_runs_in_a_forkserver_child_killed_with_its_design(tmp_path):
+def test_a_script_s_slow_judgement_runs_in_a_forkserver_child_killed_with_its_design(tmp_path, monkeypatch):
     """The page's own judge: the server forks nothing; the child loads the script and judges x."""
     import threading
 
@@ -571,10 +594,12 @@ def test_a_script_s_slow_judgement_runs_in_a_forkserver_child_killed_with_its_de
     assert done.wait(120) and got == [("rows", (Row("x", 0.25, "", "", 0.0, True),))]
     assert (tmp_path / "judged-0.25").exists()
     done.clear()
+    children = _children(monkeypatch)
     cancel = judge((2.0, 0.5), None, said)
     time.sleep(0.5)
-    cancel()  # its design replaced: the child is killed before it judges, nothing is said
-    assert not done.wait(4) and not (tmp_path / "judged-0.5").exists() and len(got) == 1
+    cancel()  # its design replaced: the child is killed before it judges (it ends, and leaves no mark)
+    assert _ended(children[-1]) and not (tmp_path / "judged-0.5").exists()
+    assert not done.wait(0.2) and len(got) == 1
 
 
 def test_without_a_script_a_page_lists_the_designable_ones_read_as_syntax_only(browser, tmp_path):
