@@ -112,6 +112,51 @@ def test_the_bounded_sample_query_keeps_every_figure_exactly(seed004_full_tips, 
     assert np.array_equal(proof.clearance_points, reference.clearance_points)
 
 
+def _pairs_then_within(v, v_key, ps, pe, e_key, tol, turn, extra):
+    """What :func:`contact.pairs_within` finds, the way it was found before it: every pair of the
+    radius band listed, then those within reach kept."""
+    vi, ei = contact.pairs(v, v_key, ps, pe, e_key, tol)
+    return contact.within(v, vi, ps, ei, turn[e_key[ei]], extra)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2**32 - 1), st.floats(0.0, 4.0), st.integers(1, 6))
+def test_the_pairs_within_reach_are_those_of_the_radius_band_within_reach(seed, turn_max, keys):
+    """Vertices anywhere (at the origin, across the ±π cut, on edges through the origin), edges of
+    any length, turns up to a whole one: the set of pairs asked by angle too is the set the radius
+    band gives, kept within reach."""
+    rng = np.random.default_rng(seed)
+    n, m = int(rng.integers(0, 300)), int(rng.integers(0, 200))
+    v = rng.normal(0.0, 10.0, (n, 2)) * rng.choice([1.0, 1e-3], (n, 1))
+    v[: n // 10] = [-5.0, 0.0] + rng.normal(0.0, 1e-9, (n // 10, 2))  # on the cut at ±π
+    ps = rng.normal(0.0, 10.0, (m, 2))
+    pe = ps + rng.normal(0.0, 1.0, (m, 2)) * rng.choice([0.0, 0.1, 1.0, 10.0], (m, 1))
+    turn = rng.uniform(0.0, turn_max, keys)
+    if seed % 2:  # gear-like: everything near one circle, small turns, reach ~0.1 rad of it
+        at = rng.uniform(-np.pi, np.pi, n + m)
+        ring = 10.0 + rng.normal(0.0, 0.05, n + m)
+        xy = np.stack([ring * np.cos(at), ring * np.sin(at)], axis=1)
+        v, ps = xy[:n], xy[n:]
+        pe = ps + rng.normal(0.0, 0.05, (m, 2))
+        turn = turn / 80.0
+    v_key, e_key = rng.integers(0, keys, n), rng.integers(0, keys, m)
+    want = _pairs_then_within(v, v_key, ps, pe, e_key, 0.01, turn, 0.5)
+    got = contact.pairs_within(v, v_key, ps, pe, e_key, 0.01, turn, 0.5)
+    assert sorted(zip(*got, strict=True)) == sorted(zip(*want, strict=True))
+
+
+def test_the_proof_asks_each_edge_within_its_reach_with_the_same_figures(seed004_full_tips, proof60, monkeypatch):
+    """Issue 46: the meshing sweep's vertex/edge pairs found by radius and angle at once
+    (``contact.pairs_within``) give the proof it gave when every pair of a radius band was listed
+    first, bit for bit."""
+    pair, sizing, ring, planet = seed004_full_tips
+    monkeypatch.setattr(contact, "pairs_within", _pairs_then_within)
+    reference = meshing.mesh_check(pair, ring, planet, sizing.module, steps=60, teeth=72)
+    assert proof60.summary() == reference.summary()
+    for field in ("penetration", "backlash", "transmission_error", "contacts", "clearance", "clearance_points"):
+        assert np.array_equal(getattr(proof60, field), getattr(reference, field)), field
+
+
 def test_a_large_pair_is_meshed_a_few_steps_at_a_time_with_the_same_figures(seed004_full_tips, proof60, monkeypatch):
     """Issue 46: the steps computed together shrink as the outlines grow (the vertex/edge pairs of a
     chunk are held at once: seed 004's 560-tooth ring took ~560 MB at 64 steps), and every figure is

@@ -281,12 +281,10 @@ class MeshSweep:
 
         # driven vertex meets driver edge (a), driver vertex in the window meets driven edge (b)
         # (only pairs close enough to meet within the limit, or to be within tol once turned by it)
-        va, ea = contact.pairs(q2, s2, q1, e1, s1, tol)
-        va, ea = contact.within(q2, va, q1, ea, limit[s1[ea]], drv.longest + tol)
+        va, ea = contact.pairs_within(q2, s2, q1, e1, s1, tol, limit, drv.longest + tol)
         b1 = np.flatnonzero(in_box1)
-        vb, eb = contact.pairs(q1[b1], s1[b1], q2, e2, s2, tol)
+        vb, eb = contact.pairs_within(q1[b1], s1[b1], q2, e2, s2, tol, limit, drn.longest + tol)
         vb = b1[vb]
-        vb, eb = contact.within(q1, vb, q2, eb, limit[s1[vb]], drn.longest + tol)
         sa, sb = s1[ea], s1[vb]
         xa, oka = contact.crossings(q2[va], q1[ea], e1[ea])
         oka &= self._in_box(xa + (c, 0.0), px[sa])
