@@ -99,10 +99,19 @@ def _relative_many(section, pose_a, pose_b) -> np.ndarray:
 
 def _round(section) -> bool:
     """Whether every boundary of ``section`` is a circle about its frame origin (a disc, a ring, a
-    bearing's annulus): its vertices' distances from the origin agree to 1 nm on each. Such a body
-    is the same turned about its origin, but for its outline's flattening between the vertices."""
+    bearing's annulus): its vertices' distances from the origin agree to 1 nm on each, and its
+    edges' midpoints lie within the judge's outline tolerance of that circle (a square or a hexagon,
+    whose corners lie on one circle, is not round). Such a body is the same turned about its
+    origin, but for its outline's flattening between the vertices."""
     rings = shapely.get_rings(shapely.get_parts(section))
-    return bool(len(rings)) and all(np.ptp(np.hypot(*shapely.get_coordinates(r).T)) <= 1e-6 for r in rings)
+
+    def circle(ring) -> bool:
+        xy = shapely.get_coordinates(ring)
+        r = np.hypot(*xy.T)
+        mid = np.hypot(*(0.5 * (xy[1:] + xy[:-1])).T)
+        return bool(np.ptp(r) <= 1e-6 and r.max() - mid.min() <= JUDGE_OUTLINE_MM)
+
+    return bool(len(rings)) and all(circle(r) for r in rings)
 
 
 def _pose_keys(pose_a, pose_b, a_round: bool, b_round: bool) -> np.ndarray:
@@ -132,6 +141,8 @@ def test_the_judge_s_poses_merge_only_where_the_distance_is_the_same():
     disc = shapely.Point(0.0, 0.0).buffer(5.0, quad_segs=512).difference(shapely.Point(0.0, 0.0).buffer(2.0))
     bar = shapely.box(-3.0, -1.0, 9.0, 2.0)
     assert _round(disc) and not _round(bar) and not _round(shapely.Point(1.0, 0.0).buffer(5.0))
+    # corners on one circle are not a circle: a square, a hexagon
+    assert not _round(shapely.box(-1.0, -1.0, 1.0, 1.0)) and not _round(shapely.Point(0.0, 0.0).buffer(5.0, 2))
     m = 400  # poses on a small grid, so that many repeat up to a round body's own turn
     pa = [rng.integers(0, 3, m) * 7.0 + 20.0, rng.integers(0, 3, m) * 5.0, rng.integers(0, 4, m) * 30.0]
     pb = [np.zeros(m), np.zeros(m), rng.integers(0, 4, m) * 45.0]

@@ -9,6 +9,7 @@ command on a two-variable bowl with a few generations. Every case runs under a t
 from __future__ import annotations
 
 import ast
+import contextlib
 import json
 import os
 import re
@@ -396,9 +397,10 @@ def peer(send: bytes | None):
     try:
         yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
     finally:  # accept() woken and ended before the lines it took are closed: none taken after
-        server.shutdown(socket.SHUT_RDWR)
-        serving.join()
+        with contextlib.suppress(OSError):  # (Linux wakes accept() so; others may refuse it)
+            server.shutdown(socket.SHUT_RDWR)
         server.close()
+        serving.join(10.0)
         for conn in held:
             conn.close()
 

@@ -547,7 +547,9 @@ def test_the_slow_judgement_runs_apart_and_is_dropped_when_its_design_goes(monke
     children = _children(monkeypatch)
     cancel = judge_later(lambda: time.sleep(30) or (), said)
     cancel()  # its design replaced: the child is killed (not 30 s later), nothing is said
-    assert _ended(children[-1]) and not done.wait(0.2)
+    if children:  # (without fork, a thread that is dropped: nothing to wait for but the silence)
+        assert _ended(children[-1])
+    assert not done.wait(0.2 if children else 2.0)
 
 
 SLOW_SCRIPT = '''

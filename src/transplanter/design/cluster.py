@@ -82,7 +82,7 @@ def _reach(address: str, timeout: float) -> None:
             time.monotonic() - start >= timeout
         ):
             why = f"no Dask scheduler answered within {timeout:g} s"
-        elif isinstance(reply, OSError):  # refused, reset, closed, no such host
+        elif isinstance(reply, OSError):  # reset or closed before the deadline (dask retries a refusal until it)
             why = f"cannot reach it ({type(reply).__name__}: {reply})"
         else:  # its bytes, not ours: the reader's own words (a frame of 3 EiB to allocate) say nothing useful
             why = "it is not a Dask scheduler: its reply does not decode as Dask's protocol"

@@ -381,11 +381,19 @@ def pairs_within(v, v_key, ps, pe, e_key, tol: float, turn: np.ndarray, extra: f
     ``p``'s direction (anywhere, for ``R >= |p|``). The vertices are sorted by step, radius bin and
     angle, each edge's bins are searched between two angles with a slack far above round-off, and
     the exact tests of :func:`pairs` and :func:`within`, on the same values, keep the same pairs.
-    ``turn`` is per step (key)."""
+    ``turn`` (per step, i.e. per key) and ``extra`` are at least 0. The radius bins are at least
+    1/64 of the widest band and 1/n of the largest radius wide: an edge asks at most 65 bins, and
+    there are at most n + 2 per step, whatever the outlines."""
     rho, lo, hi, span = _radius_keys(v, v_key, ps, pe, e_key, tol)
     vk, lo_key, hi_key = v_key * span + rho, e_key * span + lo, e_key * span + hi
     slack = 1e-9 * span + 1e-12
-    width = max(float(np.median(hi - lo)) * 8 if len(lo) else 1.0, 1e-6)
+    band = hi - lo
+    width = max(
+        8.0 * float(np.median(band)) if len(band) else 1.0,
+        float(band.max(initial=0.0)) / 64.0,
+        float(rho.max(initial=0.0)) / max(len(rho), 1),
+        1e-6,
+    )
     rbin = np.floor(rho / width).astype(np.int64)
     nbins = int(rbin.max(initial=0)) + 2
     key = (v_key.astype(np.int64) * nbins + rbin) * 8.0 + (np.arctan2(v[:, 1], v[:, 0]) + math.pi)
