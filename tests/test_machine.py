@@ -77,15 +77,19 @@ def _flattened(verts, sagitta: float = 0.002) -> np.ndarray:
     return np.array(out)
 
 
-def _relative_many(section, pose_a, pose_b) -> np.ndarray:
-    """``section`` (body a) posed in body b's frame at every column of ``pose_*`` (3 × m arrays of
-    x, y, angle deg in the machine): an array of m polygons, the rotation and the shift applied to all
-    copies' points at once."""
+def _relative(pose_a, pose_b) -> tuple[np.ndarray, np.ndarray]:
+    """Body a's pose in body b's frame at every column of ``pose_*`` (3 × m arrays of x, y, angle
+    deg in the machine): its turn (rad) and its shift (m, 2)."""
     xa, ya, aa = (np.asarray(v, dtype=float) for v in pose_a)
     xb, yb, ab = (np.asarray(v, dtype=float) for v in pose_b)
     turn, b = np.radians(aa - ab), np.radians(ab)
     dx, dy = xa - xb, ya - yb
-    shift = np.stack([np.cos(b) * dx + np.sin(b) * dy, -np.sin(b) * dx + np.cos(b) * dy], axis=1)
+    return turn, np.stack([np.cos(b) * dx + np.sin(b) * dy, -np.sin(b) * dx + np.cos(b) * dy], axis=1)
+
+
+def _posed(section, turn: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    """``section`` turned by each ``turn`` and moved by each ``shift``: an array of polygons, the
+    rotation and the shift applied to all copies' points at once."""
     copies = np.array([section] * len(turn), dtype=object)
     per = len(shapely.get_coordinates(section))
 
@@ -95,6 +99,11 @@ def _relative_many(section, pose_a, pose_b) -> np.ndarray:
         return np.stack([c * xy[:, 0] - s * xy[:, 1], s * xy[:, 0] + c * xy[:, 1]], axis=1) + shift[row]
 
     return shapely.transform(copies, move)
+
+
+def _relative_many(section, pose_a, pose_b) -> np.ndarray:
+    """``section`` (body a) posed in body b's frame at every column of ``pose_*``."""
+    return _posed(section, *_relative(pose_a, pose_b))
 
 
 def _round(section) -> bool:
@@ -114,22 +123,17 @@ def _round(section) -> bool:
     return bool(len(rings)) and all(circle(r) for r in rings)
 
 
-def _pose_keys(pose_a, pose_b, a_round: bool, b_round: bool) -> np.ndarray:
-    """Body a's pose in body b's frame at each column (as :func:`_relative_many` poses it), as rows
-    equal wherever the two bodies' distance is: its turn and shift; with a round body a its shift
-    alone; with a round body b its distance from b's origin and its turn less the shift's direction
-    (the pair turned about that origin); with both round that distance alone. Rounded to 1e-9 mm
-    and degrees: poses merged in rounding move a point by < 1e-6 mm."""
-    xa, ya, aa = (np.asarray(v, dtype=float) for v in pose_a)
-    xb, yb, ab = (np.asarray(v, dtype=float) for v in pose_b)
-    b = np.radians(ab)
-    sx = np.cos(b) * (xa - xb) + np.sin(b) * (ya - yb)
-    sy = -np.sin(b) * (xa - xb) + np.cos(b) * (ya - yb)
-    turn = aa - ab
+def _pose_keys(turn: np.ndarray, shift: np.ndarray, a_round: bool, b_round: bool) -> np.ndarray:
+    """Body a's pose in body b's frame (:func:`_relative`'s turn and shift) as rows equal wherever
+    the two bodies' distance is: its turn and shift; with a round body a its shift alone; with a
+    round body b its distance from b's origin and its turn less the shift's direction (the pair
+    turned about that origin); with both round that distance alone. Rounded to 1e-9 mm and rad:
+    poses merged in rounding move a point by < 1e-6 mm."""
+    sx, sy = shift[:, 0], shift[:, 1]
     if b_round:
-        keys = [np.hypot(sx, sy)] if a_round else [np.hypot(sx, sy), (turn - np.degrees(np.arctan2(sy, sx))) % 360.0]
+        keys = [np.hypot(sx, sy)] if a_round else [np.hypot(sx, sy), (turn - np.arctan2(sy, sx)) % (2 * np.pi)]
     else:
-        keys = [sx, sy] if a_round else [turn % 360.0, sx, sy]
+        keys = [sx, sy] if a_round else [turn % (2 * np.pi), sx, sy]
     return np.round(np.stack(keys, axis=1), 9)
 
 
@@ -149,7 +153,7 @@ def test_the_judge_s_poses_merge_only_where_the_distance_is_the_same():
     for a, b in ((disc, bar), (bar, disc), (disc, disc), (bar, bar)):
         d = shapely.distance(b, _relative_many(a, pa, pb))
         _, one, every = np.unique(
-            _pose_keys(pa, pb, _round(a), _round(b)), axis=0, return_index=True, return_inverse=True
+            _pose_keys(*_relative(pa, pb), _round(a), _round(b)), axis=0, return_index=True, return_inverse=True
         )
         assert np.abs(d[one][every.ravel()] - d).max() < 1e-4
         assert (
@@ -244,9 +248,11 @@ def test_an_independent_judge_finds_every_stated_clearance(built, family, pairs)
 
                 p1 = between(pose(small, rows % n), pose(small, (rows + 1) % n))
                 p2 = between(pose(big, rows % n), pose(big, (rows + 1) % n))
-                _, one, every = np.unique(_pose_keys(p1, p2, *rounds), axis=0, return_index=True, return_inverse=True)
-                posed = _relative_many(shapes[small], [v[one] for v in p1], [v[one] for v in p2])
-                return shapely.distance(shapes[big], posed)[every.ravel()]
+                turn, shift = _relative(p1, p2)  # each pose keyed, then the poses that differ measured
+                _, one, every = np.unique(
+                    _pose_keys(turn, shift, *rounds), axis=0, return_index=True, return_inverse=True
+                )
+                return shapely.distance(shapes[big], _posed(shapes[small], turn[one], shift[one]))[every.ravel()]
 
             def least(rows, f=0.0, at=at, hulls=hulls):
                 """The smallest distance at these poses and its first row (``rows`` ascending), as
